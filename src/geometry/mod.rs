@@ -1,0 +1,251 @@
+//! The flume: its solid outline, the wall nodes along it, the initial fluid lattice, and the
+//! guard that keeps fluid particles inside.
+//!
+//! The outline runs from the top of the left wall down to the bed, along the bed (a polyline,
+//! flat by default) and up the right wall. Walking along it, the fluid is on the left, so the
+//! left normal n = (−dy, dx)/|d| of each segment points into the water.
+
+use crate::case::Case;
+use nalgebra::Vector2;
+
+/// One straight piece of the solid boundary, with its unit normal into the fluid.
+#[derive(Debug, Clone, Copy)]
+pub struct Segment {
+    pub a: Vector2<f64>,
+    pub b: Vector2<f64>,
+    pub normal: Vector2<f64>,
+}
+
+/// The flume's solid boundary.
+#[derive(Debug, Clone)]
+pub struct Flume {
+    pub length_m: f64,
+    pub height_m: f64,
+    /// Outline vertices: left wall top, left wall foot, bed points…, right wall foot, right wall top.
+    pub outline: Vec<Vector2<f64>>,
+    pub segments: Vec<Segment>,
+    /// Bed polyline from x = 0 to x = length (at least two points).
+    pub bed: Vec<Vector2<f64>>,
+}
+
+impl Flume {
+    pub fn from_case(case: &Case) -> Flume {
+        let f = &case.flume;
+        let bed: Vec<Vector2<f64>> = if f.bed_m.is_empty() {
+            vec![Vector2::new(0.0, 0.0), Vector2::new(f.length_m, 0.0)]
+        } else {
+            f.bed_m.iter().map(|p| Vector2::new(p[0], p[1])).collect()
+        };
+        let mut outline = vec![Vector2::new(0.0, f.height_m)];
+        outline.extend(bed.iter().copied());
+        outline.push(Vector2::new(f.length_m, f.height_m));
+        let segments = outline
+            .windows(2)
+            .filter(|w| (w[1] - w[0]).norm() > 0.0)
+            .map(|w| {
+                let d = (w[1] - w[0]).normalize();
+                Segment {
+                    a: w[0],
+                    b: w[1],
+                    normal: Vector2::new(-d.y, d.x),
+                }
+            })
+            .collect();
+        Flume {
+            length_m: f.length_m,
+            height_m: f.height_m,
+            outline,
+            segments,
+            bed,
+        }
+    }
+
+    /// Bed height y_b(x), linear between the bed points, clamped at the ends.
+    pub fn bed_y(&self, x: f64) -> f64 {
+        let bed = &self.bed;
+        if x <= bed[0].x {
+            return bed[0].y;
+        }
+        for w in bed.windows(2) {
+            if x <= w[1].x {
+                let s = (x - w[0].x) / (w[1].x - w[0].x);
+                return w[0].y + s * (w[1].y - w[0].y);
+            }
+        }
+        bed[bed.len() - 1].y
+    }
+
+    /// Smallest distance from `p` to the solid outline.
+    pub fn distance_to_solid(&self, p: Vector2<f64>) -> f64 {
+        self.segments
+            .iter()
+            .map(|s| {
+                let d = s.b - s.a;
+                let t = ((p - s.a).dot(&d) / d.norm_squared()).clamp(0.0, 1.0);
+                (p - (s.a + t * d)).norm()
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// Wall nodes along the whole outline at about `h` spacing, corners included once.
+    pub fn wall_nodes(&self, h: f64) -> Vec<Vector2<f64>> {
+        let mut nodes = vec![self.outline[0]];
+        for w in self.outline.windows(2) {
+            let len = (w[1] - w[0]).norm();
+            if len == 0.0 {
+                continue;
+            }
+            let n = (len / h).round().max(1.0) as usize;
+            for k in 1..=n {
+                nodes.push(w[0] + (w[1] - w[0]) * (k as f64 / n as f64));
+            }
+        }
+        nodes
+    }
+
+    /// Puts a fluid particle that came closer than `margin` to the solid (or went through it)
+    /// back at distance `margin` along the wall normal, and removes the velocity component into
+    /// the wall. Returns true when the particle was moved.
+    pub fn guard(&self, p: &mut Vector2<f64>, v: &mut Vector2<f64>, margin: f64) -> bool {
+        let mut moved = false;
+        // The walls are vertical and extend upward without limit for this purpose.
+        let x_lo = margin;
+        let x_hi = self.length_m - margin;
+        if p.x < x_lo {
+            p.x = x_lo;
+            v.x = v.x.max(0.0);
+            moved = true;
+        } else if p.x > x_hi {
+            p.x = x_hi;
+            v.x = v.x.min(0.0);
+            moved = true;
+        }
+        for s in &self.segments {
+            let d = s.b - s.a;
+            let t = (*p - s.a).dot(&d) / d.norm_squared();
+            if !(0.0..=1.0).contains(&t) {
+                continue;
+            }
+            let dist = (*p - s.a).dot(&s.normal);
+            if dist < margin {
+                *p += (margin - dist) * s.normal;
+                let vn = v.dot(&s.normal);
+                if vn < 0.0 {
+                    *v -= vn * s.normal;
+                }
+                moved = true;
+            }
+        }
+        moved
+    }
+}
+
+/// Fluid particles on a regular lattice inside the water regions: for each region the lattice
+/// spacing is adjusted so that whole numbers of cells fit its width and its depth; points closer
+/// than h/2 to the solid (where wall nodes stand) or to an already seeded particle are skipped.
+pub fn seed_fluid(case: &Case, flume: &Flume) -> Vec<Vector2<f64>> {
+    let h = case.particles.spacing_m;
+    let mut points: Vec<Vector2<f64>> = Vec::new();
+    let mut grid = SpatialHash::new(h);
+    for w in &case.water {
+        let width = w.x_end_m - w.x_start_m;
+        let nx = (width / h).round().max(1.0) as usize;
+        let dx = width / nx as f64;
+        let ny = (w.depth_m / h).round().max(1.0) as usize;
+        let dy = w.depth_m / ny as f64;
+        for j in 0..=ny {
+            let y = j as f64 * dy;
+            for i in 0..=nx {
+                let x = w.x_start_m + i as f64 * dx;
+                let p = Vector2::new(x, y);
+                if y < flume.bed_y(x) || flume.distance_to_solid(p) < 0.5 * h {
+                    continue;
+                }
+                if grid.any_within(&points, p, 0.5 * h) {
+                    continue;
+                }
+                grid.insert(points.len(), p);
+                points.push(p);
+            }
+        }
+    }
+    points
+}
+
+/// A bucket grid for "is there a point within r" queries during seeding.
+struct SpatialHash {
+    cell: f64,
+    buckets: std::collections::HashMap<(i64, i64), Vec<usize>>,
+}
+
+impl SpatialHash {
+    fn new(cell: f64) -> Self {
+        Self {
+            cell,
+            buckets: Default::default(),
+        }
+    }
+    fn key(&self, p: Vector2<f64>) -> (i64, i64) {
+        (
+            (p.x / self.cell).floor() as i64,
+            (p.y / self.cell).floor() as i64,
+        )
+    }
+    fn insert(&mut self, i: usize, p: Vector2<f64>) {
+        self.buckets.entry(self.key(p)).or_default().push(i);
+    }
+    fn any_within(&self, points: &[Vector2<f64>], p: Vector2<f64>, r: f64) -> bool {
+        let (kx, ky) = self.key(p);
+        (-1..=1).any(|dx| {
+            (-1..=1).any(|dy| {
+                self.buckets
+                    .get(&(kx + dx, ky + dy))
+                    .is_some_and(|b| b.iter().any(|&i| (points[i] - p).norm() < r))
+            })
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tank() -> Case {
+        let text = "[flume]\nlength_m = 1.0\nheight_m = 0.8\n[[water]]\nx_end_m = 1.0\ndepth_m = 0.5\n[particles]\nspacing_m = 0.05\n";
+        Case::from_toml_str(text, std::path::Path::new("t.toml"), "t", &[]).unwrap()
+    }
+
+    #[test]
+    fn outline_normals_point_into_the_water() {
+        let f = Flume::from_case(&tank());
+        let inside = Vector2::new(0.5, 0.3);
+        for s in &f.segments {
+            assert!((inside - s.a).dot(&s.normal) > 0.0);
+        }
+    }
+
+    #[test]
+    fn seeding_fills_the_region_and_stays_off_the_walls() {
+        let case = tank();
+        let f = Flume::from_case(&case);
+        let fluid = seed_fluid(&case, &f);
+        // 21 × 11 lattice minus the bottom row and the two wall columns.
+        assert_eq!(fluid.len(), 19 * 10);
+        assert!(fluid.iter().all(|p| f.distance_to_solid(*p) >= 0.049));
+        let walls = f.wall_nodes(0.05);
+        assert_eq!(walls.len(), 16 + 20 + 16 + 1);
+    }
+
+    #[test]
+    fn guard_puts_a_particle_back_and_stops_it() {
+        let f = Flume::from_case(&tank());
+        let mut p = Vector2::new(0.5, -0.01);
+        let mut v = Vector2::new(0.1, -1.0);
+        assert!(f.guard(&mut p, &mut v, 0.01));
+        assert!((p.y - 0.01).abs() < 1e-12 && v.y == 0.0 && v.x == 0.1);
+        let mut p = Vector2::new(-0.2, 0.001);
+        let mut v = Vector2::new(-1.0, -1.0);
+        f.guard(&mut p, &mut v, 0.01);
+        assert!(p.x >= 0.01 - 1e-12 && p.y >= 0.01 - 1e-12, "{p:?}");
+    }
+}

@@ -1,0 +1,24 @@
+//! surflab: a 2D Lagrangian wave flume solved with the Particle Finite Element Method.
+//!
+//! Layers, each knowing only those below it: `case` (what to run) → `geometry`, `particles`
+//! (the state) → `mesh` (Delaunay + α-shape) → `fem` (P1 kernels) → `solver` (the fractional
+//! step) → `simulation` (clock, Δt) → `diagnostics` (observers that read) → `output` (observers
+//! that write: .rrd, CSV, JSON).
+
+// The numerics walk several parallel arrays (struct of arrays) by node index; an index loop
+// says that more plainly than zipped iterators.
+#![allow(clippy::needless_range_loop)]
+
+pub mod case;
+pub mod diagnostics;
+pub mod fem;
+pub mod geometry;
+pub mod mesh;
+pub mod output;
+pub mod particles;
+pub mod simulation;
+pub mod solver;
+pub mod waves;
+
+pub use case::Case;
+pub use simulation::Simulation;

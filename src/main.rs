@@ -1,0 +1,266 @@
+//! `surflab`: run a case headless, or benchmark the time step.
+
+use anyhow::{Context, Result, bail};
+use clap::{Parser, Subcommand};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+use surflab::case::Case;
+use surflab::output::colormap::ColorScale;
+use surflab::output::rrd::{FrameView, RrdLogger};
+use surflab::output::run::{RunOptions, run};
+use surflab::output::summary::median;
+use surflab::simulation::Simulation;
+
+#[derive(Parser)]
+#[command(
+    name = "surflab",
+    version,
+    about = "A 2D PFEM wave flume: still water, dam breaks, waves and surf"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run a case to its end time; write run.rrd, timeseries.csv and summary.json.
+    Run {
+        /// The case file (TOML), e.g. cases/dam_break.toml.
+        case: PathBuf,
+        /// Stop at this simulated time instead of the case's time.end_s.
+        #[arg(long, value_name = "SECONDS")]
+        until: Option<f64>,
+        /// Output folder (default runs/<case name>/).
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+        /// Do not write run.rrd.
+        #[arg(long)]
+        no_rrd: bool,
+        /// Override a case field by its dotted path, e.g. --set solver.alpha=1.3 (repeatable).
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+        /// No progress bar.
+        #[arg(long)]
+        quiet: bool,
+    },
+    /// Time the step: ms per step by stage, particles and particle-steps per second.
+    Bench {
+        case: PathBuf,
+        /// Number of steps to time.
+        #[arg(long, default_value_t = 200)]
+        steps: u64,
+        /// Print one JSON object instead of a table.
+        #[arg(long)]
+        json: bool,
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+    },
+}
+
+fn main() {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Some(Command::Run {
+            case,
+            until,
+            out,
+            no_rrd,
+            set,
+            quiet,
+        }) => cmd_run(&case, until, out, !no_rrd, &set, !quiet),
+        Some(Command::Bench {
+            case,
+            steps,
+            json,
+            set,
+        }) => cmd_bench(&case, steps, json, &set),
+        None => cmd_run(
+            Path::new("cases/dam_break.toml"),
+            None,
+            None,
+            true,
+            &[],
+            true,
+        ),
+    };
+    if let Err(e) = result {
+        eprintln!("surflab: error: {e:#}");
+        std::process::exit(1);
+    }
+}
+
+fn load(path: &Path, set: &[String], until: Option<f64>) -> Result<Case> {
+    let mut overrides = set.to_vec();
+    if let Some(t) = until {
+        if !(t.is_finite() && t > 0.0) {
+            bail!("--until must be a positive number of seconds, got {t}");
+        }
+        overrides.push(format!("time.end_s={t}"));
+    }
+    Ok(Case::load(path, &overrides)?)
+}
+
+fn cmd_run(
+    path: &Path,
+    until: Option<f64>,
+    out: Option<PathBuf>,
+    rrd: bool,
+    set: &[String],
+    progress: bool,
+) -> Result<()> {
+    let case = load(path, set, until)?;
+    let out_dir = out.unwrap_or_else(|| PathBuf::from("runs").join(&case.name));
+    eprintln!(
+        "surflab: {} — {} to t = {} s, h = {} m, output to {}",
+        case.name,
+        path.display(),
+        case.time.end_s,
+        case.particles.spacing_m,
+        out_dir.display()
+    );
+    let outcome = run(
+        &case,
+        &RunOptions {
+            out_dir: out_dir.clone(),
+            rrd,
+            progress,
+        },
+    )?;
+    let s = &outcome.summary;
+    eprintln!(
+        "surflab: {} particles ({} fluid), {} steps, {:.3} s simulated in {:.2} s wall (real-time factor {:.3}), {:.0} particle-steps/s, median {:.2} ms/step, volume drift max {:.3e}",
+        s.particles,
+        s.fluid_particles,
+        s.steps,
+        s.simulated_s,
+        s.wall_s,
+        s.real_time_factor,
+        s.particle_steps_per_s,
+        s.median_ms_per_step,
+        s.volume_drift_max
+    );
+    if !outcome.ok() {
+        bail!(
+            "run did not finish: {} (what was recorded is in {})",
+            s.status,
+            out_dir.display()
+        );
+    }
+    eprintln!("surflab: status ok; wrote {}", out_dir.display());
+    Ok(())
+}
+
+fn cmd_bench(path: &Path, steps: u64, json: bool, set: &[String]) -> Result<()> {
+    if steps == 0 {
+        bail!("--steps must be at least 1");
+    }
+    let case = load(path, set, None)?;
+    let mut sim = Simulation::new(&case).context("seeding the case")?;
+    let n = sim.particles.len();
+    // Logging is timed into a throw-away recording, one frame every `every` steps.
+    let tmp = std::env::temp_dir().join(format!("surflab-bench-{}.rrd", std::process::id()));
+    let (lo, hi) = case.u1_range();
+    let outline: Vec<[f64; 2]> = sim.flume.outline.iter().map(|p| [p.x, p.y]).collect();
+    let mut rrd = RrdLogger::create(
+        &tmp,
+        "surflab-bench",
+        &outline,
+        ColorScale { min: lo, max: hi },
+        0.5 * case.particles.spacing_m,
+    )?;
+    let every = 10;
+    let mut stage_samples: Vec<Vec<f64>> = vec![Vec::new(); 9];
+    let mut names = Vec::new();
+    let mut total = Vec::new();
+    let mut log_ms = Vec::new();
+    let mut iters = Vec::new();
+    // Insertion and removal change the count: particle-steps are summed step by step.
+    let mut particle_steps = 0usize;
+    let started = Instant::now();
+    for k in 0..steps {
+        let report = sim
+            .step_towards(f64::INFINITY)
+            .with_context(|| format!("step {k} at t = {:.5} s", sim.time_s))?;
+        particle_steps += sim.particles.len();
+        names = report.timings.named().iter().map(|(n, _)| *n).collect();
+        for (s, (_, ms)) in stage_samples.iter_mut().zip(report.timings.named()) {
+            s.push(ms);
+        }
+        total.push(report.timings.total_ms());
+        iters.push(report.pressure_iterations as f64);
+        if k % every == 0 {
+            let t0 = Instant::now();
+            let p = &sim.particles;
+            let is_fluid: Vec<bool> = (0..p.len()).map(|i| p.is_fluid(i)).collect();
+            rrd.log_frame(&FrameView {
+                t_s: sim.time_s,
+                positions: &p.position,
+                velocities: &p.velocity,
+                is_fluid: &is_fluid,
+                boundary_edges: &sim.solver.mesh.boundary_edges,
+                triangles: None,
+                scalars: &[],
+            })?;
+            log_ms.push(t0.elapsed().as_secs_f64() * 1e3);
+        }
+    }
+    let wall = started.elapsed().as_secs_f64();
+    rrd.flush();
+    drop(rrd);
+    let _ = std::fs::remove_file(&tmp);
+
+    let log_per_step = median(&log_ms) / every as f64;
+    let step_ms = median(&total);
+    let particle_steps_per_s = particle_steps as f64 / wall;
+    let mean_particles = particle_steps as f64 / steps as f64;
+    let mut stages: Vec<(String, f64)> = names
+        .iter()
+        .zip(&stage_samples)
+        .map(|(n, s)| (n.to_string(), median(s)))
+        .collect();
+    stages.push(("logging".into(), log_per_step));
+    if json {
+        let obj = serde_json::json!({
+            "case": case.name,
+            "particles_initial": n,
+            "particles_mean": mean_particles,
+            "fluid_particles": sim.particles.fluid_count(),
+            "steps": steps,
+            "simulated_s": sim.time_s,
+            "wall_s": wall,
+            "median_ms_per_step": step_ms,
+            "stage_ms": stages.iter().cloned().collect::<std::collections::BTreeMap<_, _>>(),
+            "median_pressure_iterations": median(&iters),
+            "pressure_solver": format!("{:?}", case.solver.pressure_solver).to_lowercase(),
+            "particle_steps_per_s": particle_steps_per_s,
+            "real_time_factor": sim.time_s / wall,
+        });
+        println!("{obj}");
+    } else {
+        println!(
+            "case {}: {} particles at start, {:.0} on average, {} at the end ({} fluid); {} steps; pressure solver {:?}",
+            case.name,
+            n,
+            mean_particles,
+            sim.particles.len(),
+            sim.particles.fluid_count(),
+            steps,
+            case.solver.pressure_solver
+        );
+        println!("{:<16} {:>10}", "stage", "median ms");
+        for (name, ms) in &stages {
+            println!("{name:<16} {ms:>10.3}");
+        }
+        println!("{:<16} {:>10.3}", "step (total)", step_ms);
+        println!("median pressure iterations: {:.0}", median(&iters));
+        println!(
+            "particle-steps/s: {:.0}   simulated {:.4} s in {:.2} s wall: real-time factor {:.3}",
+            particle_steps_per_s,
+            sim.time_s,
+            wall,
+            sim.time_s / wall
+        );
+    }
+    Ok(())
+}

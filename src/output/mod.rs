@@ -1,0 +1,8 @@
+//! Observers that write: the Rerun recording, the CSV time series and the JSON summary, plus
+//! the run driver that hangs them off a [`crate::Simulation`].
+
+pub mod colormap;
+pub mod rrd;
+pub mod run;
+pub mod summary;
+pub mod timeseries;

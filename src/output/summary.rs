@@ -1,0 +1,48 @@
+//! `summary.json`: what was run, how long it took and how it ended.
+
+use crate::case::Case;
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+#[derive(Debug, Clone, Serialize)]
+pub struct Summary {
+    pub case: String,
+    /// The case after defaults and `--set` overrides: every resolved parameter.
+    pub parameters: Case,
+    /// Particles at the end (insertion and removal change the count).
+    pub particles: usize,
+    pub fluid_particles: usize,
+    pub wall_nodes: usize,
+    pub steps: u64,
+    pub simulated_s: f64,
+    pub wall_s: f64,
+    /// Simulated seconds per wall second.
+    pub real_time_factor: f64,
+    /// Σ particles over steps / wall seconds (the wall time includes recording).
+    pub particle_steps_per_s: f64,
+    pub median_ms_per_step: f64,
+    /// Median ms per step of each stage.
+    pub median_stage_ms: BTreeMap<String, f64>,
+    pub median_pressure_iterations: f64,
+    pub initial_volume_m2: f64,
+    /// max |V/V₀ − 1| over the recorded outputs.
+    pub volume_drift_max: f64,
+    pub final_volume_ratio: f64,
+    /// `ok`, or why the run stopped.
+    pub status: String,
+}
+
+/// Median of a sample (NaN for none).
+pub fn median(values: &[f64]) -> f64 {
+    if values.is_empty() {
+        return f64::NAN;
+    }
+    let mut v = values.to_vec();
+    v.sort_by(|a, b| a.total_cmp(b));
+    let m = v.len() / 2;
+    if v.len() % 2 == 1 {
+        v[m]
+    } else {
+        0.5 * (v[m - 1] + v[m])
+    }
+}

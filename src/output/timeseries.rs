@@ -1,0 +1,59 @@
+//! `timeseries.csv`: one row per output time, flushed as it is written so that a run that
+//! stops early leaves a readable file.
+
+use crate::diagnostics::Integrals;
+use std::io::Write;
+use std::path::Path;
+
+pub const HEADER: &str = "t_s,volume_m2,volume_ratio,kinetic_energy_j_per_m,max_speed_m_s,front_x_m,left_wall_height_m,fluid_particles,isolated_particles,steps,dt_s";
+
+pub struct TimeseriesWriter {
+    file: std::io::BufWriter<std::fs::File>,
+}
+
+impl TimeseriesWriter {
+    pub fn create(path: &Path) -> std::io::Result<Self> {
+        let mut file = std::io::BufWriter::new(std::fs::File::create(path)?);
+        writeln!(file, "{HEADER}")?;
+        file.flush()?;
+        Ok(Self { file })
+    }
+
+    pub fn row(
+        &mut self,
+        m: &Integrals,
+        initial_volume_m2: f64,
+        steps: u64,
+        dt_s: f64,
+    ) -> std::io::Result<()> {
+        writeln!(
+            self.file,
+            "{:.6},{:.8e},{:.8},{:.6e},{:.6e},{:.6},{:.6},{},{},{},{:.4e}",
+            m.t_s,
+            m.volume_m2,
+            m.volume_m2 / initial_volume_m2,
+            m.kinetic_energy_j_per_m,
+            m.max_speed_m_s,
+            m.front_x_m,
+            m.left_wall_height_m,
+            m.fluid_particles,
+            m.isolated_particles,
+            steps,
+            dt_s
+        )?;
+        self.file.flush()
+    }
+}
+
+/// Reads a column of a CSV written by this module (or any simple numeric CSV with a header).
+pub fn read_column(path: &Path, name: &str) -> std::io::Result<Vec<f64>> {
+    let text = std::fs::read_to_string(path)?;
+    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
+    let header = lines.next().unwrap_or_default();
+    let k = header.split(',').position(|h| h == name).ok_or_else(|| {
+        std::io::Error::new(std::io::ErrorKind::InvalidData, format!("no column {name}"))
+    })?;
+    Ok(lines
+        .filter_map(|l| l.split(',').nth(k).and_then(|v| v.parse().ok()))
+        .collect())
+}

@@ -1,0 +1,79 @@
+//! The state of the particle cloud, as a struct of arrays owned by the caller.
+//!
+//! Wall nodes come first (indices `0..n_wall`) and never move; fluid particles follow.
+
+use nalgebra::Vector2;
+
+/// What a node is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NodeKind {
+    /// A Lagrangian water particle.
+    Fluid,
+    /// A solid-boundary node: Dirichlet velocity, free pressure.
+    Wall,
+}
+
+#[derive(Debug, Clone, Default)]
+pub struct Particles {
+    /// Position in the flume frame (x along the flume, y up), m.
+    pub position: Vec<Vector2<f64>>,
+    /// Velocity, m/s.
+    pub velocity: Vec<Vector2<f64>>,
+    /// Pressure relative to the atmosphere, Pa.
+    pub pressure: Vec<f64>,
+    /// Projected pressure gradient π ≈ −∇p of the FIC stabilisation, Pa/m.
+    pub pressure_gradient_projection: Vec<Vector2<f64>>,
+    pub kind: Vec<NodeKind>,
+}
+
+impl Particles {
+    /// Wall nodes at rest followed by fluid particles at rest.
+    pub fn new(walls: &[Vector2<f64>], fluid: &[Vector2<f64>]) -> Particles {
+        let n = walls.len() + fluid.len();
+        let mut kind = vec![NodeKind::Wall; walls.len()];
+        kind.resize(n, NodeKind::Fluid);
+        Particles {
+            position: walls.iter().chain(fluid).copied().collect(),
+            velocity: vec![Vector2::zeros(); n],
+            pressure: vec![0.0; n],
+            pressure_gradient_projection: vec![Vector2::zeros(); n],
+            kind,
+        }
+    }
+
+    pub fn len(&self) -> usize {
+        self.position.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.position.is_empty()
+    }
+
+    pub fn is_fluid(&self, i: usize) -> bool {
+        self.kind[i] == NodeKind::Fluid
+    }
+
+    pub fn fluid_count(&self) -> usize {
+        self.kind.iter().filter(|k| **k == NodeKind::Fluid).count()
+    }
+
+    /// Removes the nodes for which `drop` is true, keeping the order of the others.
+    pub fn remove_where(&mut self, drop: &[bool]) {
+        let mut k = 0;
+        for i in 0..self.len() {
+            if !drop[i] {
+                self.position[k] = self.position[i];
+                self.velocity[k] = self.velocity[i];
+                self.pressure[k] = self.pressure[i];
+                self.pressure_gradient_projection[k] = self.pressure_gradient_projection[i];
+                self.kind[k] = self.kind[i];
+                k += 1;
+            }
+        }
+        self.position.truncate(k);
+        self.velocity.truncate(k);
+        self.pressure.truncate(k);
+        self.pressure_gradient_projection.truncate(k);
+        self.kind.truncate(k);
+    }
+}

@@ -1,0 +1,111 @@
+//! The simulation: particles, flume, solver, clock and Δt policy. It never draws and never
+//! writes; observers read it between steps.
+
+use crate::case::{Case, DtPolicy};
+use crate::geometry::{self, Flume};
+use crate::mesh::MeshError;
+use crate::particles::Particles;
+use crate::solver::{Solver, SolverParams, StepError, StepReport};
+
+pub struct Simulation {
+    pub case: Case,
+    pub flume: Flume,
+    pub particles: Particles,
+    pub solver: Solver,
+    pub time_s: f64,
+    pub steps: u64,
+    /// Water volume (area of the kept mesh) at t = 0, m² per metre of width.
+    pub initial_volume_m2: f64,
+}
+
+impl Simulation {
+    /// Seeds the flume from the case, with hydrostatic pressure in every region, and meshes it.
+    pub fn new(case: &Case) -> Result<Simulation, MeshError> {
+        let flume = Flume::from_case(case);
+        let h = case.particles.spacing_m;
+        let walls = flume.wall_nodes(h);
+        let fluid = geometry::seed_fluid(case, &flume);
+        let mut particles = Particles::new(&walls, &fluid);
+        let rho_g = case.fluid.density_kg_m3 * case.fluid.gravity_m_s2;
+        for i in 0..particles.len() {
+            let x = particles.position[i];
+            let level = case
+                .water
+                .iter()
+                .filter(|w| x.x >= w.x_start_m - 0.5 * h && x.x <= w.x_end_m + 0.5 * h)
+                .map(|w| w.depth_m)
+                .fold(f64::NEG_INFINITY, f64::max);
+            // Hydrostatic pressure, and π = −∇p = (0, ρg) on every node of the water, the
+            // surface row included, so that the FIC term starts balanced.
+            if level >= x.y - 1e-9 * h {
+                particles.pressure[i] = rho_g * (level - x.y).max(0.0);
+                particles.pressure_gradient_projection[i] = nalgebra::Vector2::new(0.0, rho_g);
+            }
+        }
+        let mut solver = Solver::new(SolverParams::from_case(case));
+        // Twice: the second pass applies the contact-line rule with the first pass's surface.
+        solver.remesh(&particles)?;
+        solver.remesh(&particles)?;
+        let initial_volume_m2 = solver.mesh.area(&particles.position);
+        Ok(Simulation {
+            case: case.clone(),
+            flume,
+            particles,
+            solver,
+            time_s: 0.0,
+            steps: 0,
+            initial_volume_m2,
+        })
+    }
+
+    /// The Δt the policy asks for, shortened so that the step lands on `until_s`.
+    pub fn next_dt(&self, until_s: f64) -> f64 {
+        let t = &self.case.time;
+        let dt = match t.dt_policy {
+            DtPolicy::Fixed => t.dt_max_s,
+            DtPolicy::Cfl => {
+                let u_max = (0..self.particles.len())
+                    .filter(|&i| self.particles.is_fluid(i))
+                    .map(|i| self.particles.velocity[i].norm_squared())
+                    .fold(0.0, f64::max)
+                    .sqrt();
+                let cfl_dt = t.cfl * self.case.particles.spacing_m / u_max.max(1e-12);
+                cfl_dt.clamp(t.dt_min_s, t.dt_max_s)
+            }
+        };
+        let remaining = until_s - self.time_s;
+        if remaining <= dt {
+            remaining
+        } else if remaining < 2.0 * dt {
+            // Two even steps rather than a full one and a sliver.
+            0.5 * remaining
+        } else {
+            dt
+        }
+    }
+
+    /// One step towards `until_s`.
+    pub fn step_towards(&mut self, until_s: f64) -> Result<StepReport, StepError> {
+        let dt = self.next_dt(until_s);
+        let report = self.solver.step(&mut self.particles, &self.flume, dt)?;
+        self.time_s += report.dt_s;
+        if (until_s - self.time_s).abs() < 1e-12 * until_s.max(1.0) {
+            self.time_s = until_s;
+        }
+        self.steps += 1;
+        Ok(report)
+    }
+
+    /// Steps until `until_s`, calling `on_step` after each step.
+    pub fn advance_to(
+        &mut self,
+        until_s: f64,
+        mut on_step: impl FnMut(&Simulation, &StepReport),
+    ) -> Result<(), StepError> {
+        while self.time_s < until_s {
+            let report = self.step_towards(until_s)?;
+            on_step(self, &report);
+        }
+        Ok(())
+    }
+}

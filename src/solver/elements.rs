@@ -1,0 +1,57 @@
+//! Stage `elements`: per kept triangle its P1 geometry, the effective viscosity
+//! μ_e = μ + ρ(C_s h_e)²|S(uⁿ)| (Smagorinsky, thesis eqs. 1.20–1.21, lagged so the step stays
+//! linear) and the stabilisation τ_e; per node the lumped mass m_i = ρ Σ A_e/3 (thesis eq. 2.22)
+//! and the τ-weighted mass Σ τ_e A_e/3 used by the pressure-gradient projection.
+//!
+//! It also sets the previous pressure the step splits against, pⁿ with p = 0 imposed on the
+//! current free surface and isolated nodes: a node that has just reached the surface would
+//! otherwise carry its old interior pressure into the increment pⁿ⁺¹ − γpⁿ, and the splitting
+//! error, which grows with that increment, would compress the water around it.
+
+use super::Solver;
+use crate::fem;
+use crate::particles::Particles;
+
+impl Solver {
+    pub(super) fn element_properties(&mut self, particles: &Particles, dt: f64) {
+        let p = &self.params;
+        let rho = p.density_kg_m3;
+        let n = particles.len();
+        let x = &particles.position;
+        let u = &particles.velocity;
+        self.elems.clear();
+        self.mu_e.clear();
+        self.tau_e.clear();
+        self.mass.clear();
+        self.mass.resize(n, 0.0);
+        self.tau_mass.clear();
+        self.tau_mass.resize(n, 0.0);
+        self.p_old.clear();
+        self.p_old.extend((0..n).map(|i| {
+            if self.mesh.free_surface[i] || !self.mesh.in_mesh[i] {
+                0.0
+            } else {
+                particles.pressure[i]
+            }
+        }));
+        for t in &self.mesh.triangles {
+            let [a, b, c] = t.map(|i| i as usize);
+            let e = fem::p1(x[a], x[b], x[c]);
+            let h_e = fem::element_size(e.area);
+            let g = fem::velocity_gradient(&e, [u[a], u[b], u[c]]);
+            let (_, s_mag) = fem::strain_rate(&g);
+            let mu_e =
+                fem::smagorinsky_viscosity(p.viscosity_pa_s, rho, p.smagorinsky_cs, h_e, s_mag);
+            let speed = ((u[a] + u[b] + u[c]) / 3.0).norm();
+            let tau = fem::tau(p.tau, rho, mu_e, h_e, dt, speed);
+            let third = e.area / 3.0;
+            for i in [a, b, c] {
+                self.mass[i] += rho * third;
+                self.tau_mass[i] += tau * third;
+            }
+            self.elems.push(e);
+            self.mu_e.push(mu_e);
+            self.tau_e.push(tau);
+        }
+    }
+}

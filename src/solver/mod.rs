@@ -1,0 +1,250 @@
+//! The fractional-step PFEM solver: one call of [`Solver::step`] remeshes the particle cloud and
+//! advances it by Δt. See `step.rs` for the list of stages.
+//!
+//! The solver owns only scratch buffers; the state is the caller's [`Particles`]. It never does
+//! I/O: what happened in a step comes back as a [`StepReport`], and numerical trouble as a
+//! [`StepError`].
+
+mod cg;
+mod correct;
+mod elements;
+mod motion;
+mod nodes;
+mod predict;
+pub mod pressure;
+mod step;
+
+use crate::case::{Case, PressureSolver, TauFormula};
+use crate::fem::P1;
+use crate::mesh::{Mesh, MeshError, Vertex};
+use nalgebra::Vector2;
+
+pub use pressure::PressureSystem;
+
+/// Physical and numerical parameters of the solver, resolved from a case.
+#[derive(Debug, Clone)]
+pub struct SolverParams {
+    pub density_kg_m3: f64,
+    pub viscosity_pa_s: f64,
+    pub gravity_m_s2: Vector2<f64>,
+    /// Particle spacing h, m.
+    pub spacing_m: f64,
+    pub alpha: f64,
+    pub alpha_boundary: f64,
+    pub gamma: f64,
+    pub theta: f64,
+    pub smagorinsky_cs: f64,
+    pub tau: TauFormula,
+    pub pressure_solver: PressureSolver,
+    pub cg_tolerance: f64,
+    pub cg_max_iterations: usize,
+    /// Closest approach of a fluid particle to the solid, m.
+    pub wall_margin_m: f64,
+    /// Node insertion threshold on the circumradius, in units of h (0: off).
+    pub insert_radius_h: f64,
+    /// Node removal threshold on the spacing, in units of h (0: off).
+    pub remove_distance_h: f64,
+    /// Smallest Δt the solver may fall back to when a step would invert elements.
+    pub dt_min_s: f64,
+    /// May the solver shorten Δt on its own (CFL policy) when a step would invert elements?
+    pub adaptive_dt: bool,
+}
+
+impl SolverParams {
+    pub fn from_case(case: &Case) -> SolverParams {
+        let s = &case.solver;
+        SolverParams {
+            density_kg_m3: case.fluid.density_kg_m3,
+            viscosity_pa_s: case.fluid.viscosity_pa_s,
+            gravity_m_s2: Vector2::new(0.0, -case.fluid.gravity_m_s2),
+            spacing_m: case.particles.spacing_m,
+            alpha: s.alpha,
+            alpha_boundary: s.alpha_boundary,
+            gamma: s.gamma,
+            theta: s.theta,
+            smagorinsky_cs: s.smagorinsky_cs,
+            tau: s.tau,
+            pressure_solver: s.pressure_solver,
+            cg_tolerance: s.cg_tolerance,
+            cg_max_iterations: s.cg_max_iterations,
+            wall_margin_m: s.wall_margin_h * case.particles.spacing_m,
+            insert_radius_h: s.insert_radius_h,
+            remove_distance_h: s.remove_distance_h,
+            dt_min_s: case.time.dt_min_s,
+            adaptive_dt: case.time.dt_policy == crate::case::DtPolicy::Cfl,
+        }
+    }
+}
+
+/// Wall-clock milliseconds spent in each stage of one step.
+#[derive(Debug, Clone, Copy, Default, serde::Serialize)]
+pub struct StageTimings {
+    /// Node insertion and removal before the remesh.
+    pub nodes_ms: f64,
+    /// Delaunay triangulation of all nodes (spade).
+    pub remesh_ms: f64,
+    /// α-shape, all-wall filter, free surface.
+    pub alpha_shape_ms: f64,
+    /// Element geometry, lumped mass, Smagorinsky viscosity, τ.
+    pub elements_ms: f64,
+    /// Momentum predictor ũ.
+    pub predict_ms: f64,
+    /// Pressure matrix and right-hand side.
+    pub assemble_ms: f64,
+    /// Pressure linear solve.
+    pub pressure_solve_ms: f64,
+    /// Velocity correction and pressure-gradient projection.
+    pub correct_ms: f64,
+    /// Particle motion and wall guard.
+    pub move_ms: f64,
+}
+
+impl StageTimings {
+    /// (name, ms) pairs in step order.
+    pub fn named(&self) -> [(&'static str, f64); 9] {
+        [
+            ("nodes", self.nodes_ms),
+            ("remesh", self.remesh_ms),
+            ("alpha_shape", self.alpha_shape_ms),
+            ("elements", self.elements_ms),
+            ("predict", self.predict_ms),
+            ("assemble", self.assemble_ms),
+            ("pressure_solve", self.pressure_solve_ms),
+            ("correct", self.correct_ms),
+            ("move", self.move_ms),
+        ]
+    }
+
+    pub fn total_ms(&self) -> f64 {
+        self.named().iter().map(|(_, v)| v).sum()
+    }
+}
+
+/// What one step did.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct StepReport {
+    /// The Δt actually taken (it may be shorter than asked when elements would invert).
+    pub dt_s: f64,
+    pub timings: StageTimings,
+    pub pressure_unknowns: usize,
+    pub pressure_iterations: usize,
+    pub kept_triangles: usize,
+    pub free_surface_nodes: usize,
+    pub isolated_particles: usize,
+    /// Fluid particles put back by the wall guard.
+    pub guarded_particles: usize,
+    /// Times Δt was halved in this step.
+    pub dt_halvings: usize,
+    /// Change of the water area (m²/m) made by this step's remesh, relative to the last step's
+    /// mesh at the same positions: the α-shape's doing.
+    pub remesh_area_change_m2: f64,
+    /// Change of the area of this step's mesh when its nodes moved: the velocity field's
+    /// divergence error.
+    pub motion_area_change_m2: f64,
+    /// Particles inserted and removed before the remesh.
+    pub nodes_inserted: usize,
+    pub nodes_removed: usize,
+}
+
+/// Numerical trouble that stops a run.
+#[derive(Debug, thiserror::Error)]
+pub enum StepError {
+    #[error(transparent)]
+    Mesh(#[from] MeshError),
+    #[error("non-finite {quantity} at node {node} (x = {x:.4} m, y = {y:.4} m)")]
+    NonFinite {
+        quantity: &'static str,
+        node: usize,
+        x: f64,
+        y: f64,
+    },
+    #[error("pressure solve failed: {0}")]
+    Pressure(String),
+    #[error("elements still invert with Δt = {dt_s:.3e} s, the smallest allowed step")]
+    Inverted { dt_s: f64 },
+}
+
+/// Scratch buffers reused from step to step.
+#[derive(Default)]
+pub struct Solver {
+    pub params: SolverParams,
+    /// The kept mesh of the last step (for observers: gauges, boundary, volume).
+    pub mesh: Mesh,
+    vertices: Vec<Vertex>,
+    /// Per kept triangle.
+    elems: Vec<P1>,
+    mu_e: Vec<f64>,
+    tau_e: Vec<f64>,
+    /// Per node.
+    mass: Vec<f64>,
+    tau_mass: Vec<f64>,
+    /// pⁿ with p = 0 on the current free surface (see `elements.rs`).
+    p_old: Vec<f64>,
+    u_tilde: Vec<Vector2<f64>>,
+    u_new: Vec<Vector2<f64>>,
+    p_new: Vec<f64>,
+    pi_new: Vec<Vector2<f64>>,
+    dirichlet: Vec<bool>,
+    /// Area of the last step's mesh after its move (NaN before the first step).
+    moved_area: Option<f64>,
+    pressure: PressureSystem,
+    cg: cg::Scratch,
+}
+
+impl Default for SolverParams {
+    fn default() -> Self {
+        SolverParams {
+            density_kg_m3: 1000.0,
+            viscosity_pa_s: 1e-3,
+            gravity_m_s2: Vector2::new(0.0, -9.81),
+            spacing_m: 0.01,
+            alpha: 1.2,
+            alpha_boundary: 1.0,
+            gamma: 1.0,
+            theta: 0.0,
+            smagorinsky_cs: 0.12,
+            tau: TauFormula::Inertial,
+            pressure_solver: PressureSolver::Cholesky,
+            cg_tolerance: 1e-8,
+            cg_max_iterations: 2000,
+            wall_margin_m: 0.004,
+            insert_radius_h: 0.9,
+            remove_distance_h: 0.35,
+            dt_min_s: 1e-6,
+            adaptive_dt: true,
+        }
+    }
+}
+
+impl Solver {
+    pub fn new(params: SolverParams) -> Solver {
+        Solver {
+            params,
+            ..Default::default()
+        }
+    }
+
+    /// The pressure system of the last step (for the solver comparison in `bench`).
+    pub fn pressure_system(&self) -> &PressureSystem {
+        &self.pressure
+    }
+}
+
+impl Solver {
+    /// Stages 1–2 only: mesh the current cloud without advancing it (for t = 0 and observers).
+    pub fn remesh(&mut self, particles: &Particles) -> Result<(), MeshError> {
+        let tri = crate::mesh::triangulate(particles, &mut self.vertices)?;
+        let p = &self.params;
+        crate::mesh::alpha_shape(
+            &tri,
+            particles,
+            p.alpha,
+            p.alpha_boundary,
+            p.spacing_m,
+            &mut self.mesh,
+        );
+        Ok(())
+    }
+}
+
+use crate::particles::Particles;

@@ -1,0 +1,64 @@
+//! Stage `move`: commit uⁿ⁺¹, pⁿ⁺¹ and π, move the fluid particles, x ← x + Δt uⁿ⁺¹ (thesis
+//! eq. 2.59), and put back any particle that came closer to the solid than the wall margin
+//! (method.md §2 (c)–(d)), removing its velocity into the wall. Also the inversion check that
+//! lets the step halve Δt.
+
+use super::{Solver, StepError};
+use crate::geometry::Flume;
+use crate::particles::Particles;
+
+impl Solver {
+    /// Would moving the nodes by Δt·uⁿ⁺¹ turn a well-shaped kept triangle (area above 1 % of
+    /// h²) inside out? Slivers are left out: they flip under any motion and the next remesh
+    /// replaces them anyway.
+    pub(super) fn would_invert(&self, particles: &Particles, dt: f64) -> bool {
+        let x = &particles.position;
+        let u = &self.u_new;
+        let min_area = 0.01 * self.params.spacing_m * self.params.spacing_m;
+        self.mesh.triangles.iter().zip(&self.elems).any(|(t, e)| {
+            if e.area < min_area {
+                return false;
+            }
+            let [a, b, c] = t.map(|i| {
+                let i = i as usize;
+                x[i] + dt * u[i]
+            });
+            (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y) <= 0.0
+        })
+    }
+
+    /// Returns how many particles the wall guard put back.
+    pub(super) fn move_particles(
+        &mut self,
+        particles: &mut Particles,
+        flume: &Flume,
+        dt: f64,
+    ) -> Result<usize, StepError> {
+        let margin = self.params.wall_margin_m;
+        let mut guarded = 0;
+        for i in 0..particles.len() {
+            particles.pressure[i] = self.p_new[i];
+            particles.pressure_gradient_projection[i] = self.pi_new[i];
+            if !particles.is_fluid(i) {
+                continue;
+            }
+            let mut u = self.u_new[i];
+            if !(u.x.is_finite() && u.y.is_finite()) {
+                let x = particles.position[i];
+                return Err(StepError::NonFinite {
+                    quantity: "velocity",
+                    node: i,
+                    x: x.x,
+                    y: x.y,
+                });
+            }
+            let mut x = particles.position[i] + dt * u;
+            if flume.guard(&mut x, &mut u, margin) {
+                guarded += 1;
+            }
+            particles.position[i] = x;
+            particles.velocity[i] = u;
+        }
+        Ok(guarded)
+    }
+}

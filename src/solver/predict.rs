@@ -1,0 +1,132 @@
+//! Stage `predict`: the momentum equation without the pressure increment (thesis eq. 2.6,
+//! method.md §1 step 1), with lumped mass M, viscous matrix K and θ-weighted viscosity:
+//!
+//! (M/Δt + θK) ũ = (M/Δt) uⁿ − (1 − θ) K uⁿ + γ Dᵀpⁿ + M g.
+//!
+//! Per element, K u contributes 2μ_e A S(u) b_i to node i (symmetric-gradient form) and Dᵀp
+//! contributes A p̄ b_i. With θ = 0 this is explicit per node; with θ > 0 it is solved by
+//! matrix-free Jacobi-CG. Wall nodes keep their Dirichlet velocity (0); isolated particles fly
+//! ballistically, ũ = uⁿ + Δt g.
+
+use super::{Solver, cg};
+use crate::fem;
+use crate::particles::Particles;
+use nalgebra::Vector2;
+
+impl Solver {
+    pub(super) fn predict(&mut self, particles: &Particles, dt: f64) {
+        let p = &self.params;
+        let n = particles.len();
+        let (x_u, pres) = (&particles.velocity, &self.p_old);
+        // Explicit forces: −(1−θ)K uⁿ + γ Dᵀpⁿ.
+        let mut force = vec![Vector2::zeros(); n];
+        let explicit_visc = 1.0 - p.theta;
+        for (k, t) in self.mesh.triangles.iter().enumerate() {
+            let e = &self.elems[k];
+            let idx = t.map(|i| i as usize);
+            let g = fem::velocity_gradient(e, idx.map(|i| x_u[i]));
+            let (s, _) = fem::strain_rate(&g);
+            let visc = (-2.0 * explicit_visc * self.mu_e[k] * e.area) * s;
+            let p_mean = (pres[idx[0]] + pres[idx[1]] + pres[idx[2]]) / 3.0;
+            let press = p.gamma * e.area * p_mean;
+            for (a, &i) in idx.iter().enumerate() {
+                force[i] += visc * e.grad[a] + press * e.grad[a];
+            }
+        }
+        self.u_tilde.clear();
+        self.u_tilde.resize(n, Vector2::zeros());
+        for i in 0..n {
+            if !particles.is_fluid(i) {
+                continue; // Dirichlet: walls at rest.
+            }
+            self.u_tilde[i] = if self.mass[i] > 0.0 {
+                x_u[i] + dt * (force[i] / self.mass[i] + p.gravity_m_s2)
+            } else {
+                x_u[i] + dt * p.gravity_m_s2
+            };
+        }
+        if p.theta > 0.0 {
+            self.implicit_viscous_correction(particles, dt);
+        }
+    }
+
+    /// For θ > 0: ũ above is the explicit predictor with K uⁿ weighted by (1 − θ). The implicit
+    /// part solves (M/Δt + θK) δ = −θ K ũ on the free velocity DOFs, so that ũ + δ satisfies
+    /// (M/Δt + θK)(ũ + δ) = (M/Δt) ũ, i.e. the θ-weighted predictor.
+    fn implicit_viscous_correction(&mut self, particles: &Particles, dt: f64) {
+        let n = particles.len();
+        let theta = self.params.theta;
+        let free: Vec<bool> = (0..n)
+            .map(|i| particles.is_fluid(i) && self.mass[i] > 0.0)
+            .collect();
+        let (tris, elems, mu_e, mass) = (&self.mesh.triangles, &self.elems, &self.mu_e, &self.mass);
+        // K v (flattened 2n vector), zero on Dirichlet rows.
+        let k_apply = |v: &[f64], out: &mut [f64]| {
+            out.iter_mut().for_each(|o| *o = 0.0);
+            for (k, t) in tris.iter().enumerate() {
+                let e = &elems[k];
+                let idx = t.map(|i| i as usize);
+                let vel = idx.map(|i| Vector2::new(v[2 * i], v[2 * i + 1]));
+                let (s, _) = fem::strain_rate(&fem::velocity_gradient(e, vel));
+                let f = (2.0 * mu_e[k] * e.area) * s;
+                for (a, &i) in idx.iter().enumerate() {
+                    let fi = f * e.grad[a];
+                    out[2 * i] += fi.x;
+                    out[2 * i + 1] += fi.y;
+                }
+            }
+        };
+        let mut u_flat: Vec<f64> = self.u_tilde.iter().flat_map(|u| [u.x, u.y]).collect();
+        let mut ku = vec![0.0; 2 * n];
+        k_apply(&u_flat, &mut ku);
+        let mut diag_inv = vec![0.0; 2 * n];
+        let mut kdiag = vec![0.0; 2 * n];
+        for (k, t) in tris.iter().enumerate() {
+            let e = &elems[k];
+            for (a, &i) in t.iter().enumerate() {
+                let b = e.grad[a];
+                let i = i as usize;
+                kdiag[2 * i] += mu_e[k] * e.area * (b.norm_squared() + b.x * b.x);
+                kdiag[2 * i + 1] += mu_e[k] * e.area * (b.norm_squared() + b.y * b.y);
+            }
+        }
+        let mut rhs = vec![0.0; 2 * n];
+        for i in 0..n {
+            if free[i] {
+                for d in 0..2 {
+                    diag_inv[2 * i + d] = 1.0 / (mass[i] / dt + theta * kdiag[2 * i + d]);
+                    rhs[2 * i + d] = -theta * ku[2 * i + d];
+                }
+            }
+        }
+        let apply = |v: &[f64], out: &mut [f64]| {
+            k_apply(v, out);
+            for j in 0..2 * n {
+                out[j] = if free[j / 2] {
+                    mass[j / 2] / dt * v[j] + theta * out[j]
+                } else {
+                    0.0
+                };
+            }
+        };
+        let mut delta = vec![0.0; 2 * n];
+        let tol = self.params.cg_tolerance;
+        let max_it = self.params.cg_max_iterations;
+        // A non-converged viscous correction is still an improvement on the explicit one; the
+        // pressure stage reports real trouble.
+        let _ = cg::pcg(
+            apply,
+            &diag_inv,
+            &rhs,
+            &mut delta,
+            tol,
+            max_it,
+            &mut self.cg,
+        );
+        for i in 0..n {
+            u_flat[2 * i] += delta[2 * i];
+            u_flat[2 * i + 1] += delta[2 * i + 1];
+            self.u_tilde[i] = Vector2::new(u_flat[2 * i], u_flat[2 * i + 1]);
+        }
+    }
+}

@@ -1,0 +1,328 @@
+//! Stages `assemble` and `pressure_solve`: the stabilised pressure Poisson equation
+//! (thesis eq. 2.74 with the τ of method.md §1):
+//!
+//! (Δt/ρ L + L_τ) pⁿ⁺¹ = −D ũ + γ (Δt/ρ) L pⁿ − Q πⁿ,
+//!
+//! with, per element, L_ij = A b_i·b_j, L_τ,ij = τ_e A b_i·b_j, (D ũ)_i = (A/3) ∇·ũ and
+//! (Q π)_i = τ_e A b_i·π̄. Since L_τ p + Q π = Σ τ_e A b_i·(∇p + π̄) and π ≈ −∇p, the
+//! stabilisation vanishes where the pressure gradient is smooth (hydrostatic water included).
+//! p = 0 is imposed strongly on free-surface and isolated nodes; wall nodes are unknowns. The
+//! matrix is symmetric positive definite and assembled straight into CSR from the mesh.
+
+use super::{Solver, StepError};
+use crate::case::PressureSolver;
+use crate::particles::Particles;
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use nalgebra::Vector2;
+
+const NONE: u32 = u32::MAX;
+
+/// The pressure system of one step in compressed sparse rows (symmetric, so also CSC).
+#[derive(Debug, Default, Clone)]
+pub struct PressureSystem {
+    /// Node → row, or `u32::MAX` for nodes with prescribed pressure.
+    pub row_of_node: Vec<u32>,
+    pub node_of_row: Vec<u32>,
+    pub row_ptr: Vec<usize>,
+    pub col: Vec<usize>,
+    pub val: Vec<f64>,
+    pub rhs: Vec<f64>,
+    /// Solution, warm-started from the previous pressure.
+    pub x: Vec<f64>,
+}
+
+impl PressureSystem {
+    pub fn unknowns(&self) -> usize {
+        self.node_of_row.len()
+    }
+
+    /// The pattern of the node graph of `triangles` restricted to unknown nodes.
+    fn build_pattern(&mut self, triangles: &[[u32; 3]]) {
+        let n = self.unknowns();
+        self.row_ptr.clear();
+        self.row_ptr.resize(n + 1, 0);
+        for t in triangles {
+            for &a in t {
+                let ra = self.row_of_node[a as usize];
+                if ra != NONE {
+                    self.row_ptr[ra as usize + 1] += 3;
+                }
+            }
+        }
+        for i in 0..n {
+            self.row_ptr[i + 1] += self.row_ptr[i];
+        }
+        let mut fill = self.row_ptr.clone();
+        self.col.clear();
+        self.col.resize(self.row_ptr[n], usize::MAX);
+        for t in triangles {
+            for &a in t {
+                let ra = self.row_of_node[a as usize];
+                if ra == NONE {
+                    continue;
+                }
+                for &b in t {
+                    let rb = self.row_of_node[b as usize];
+                    if rb != NONE {
+                        self.col[fill[ra as usize]] = rb as usize;
+                        fill[ra as usize] += 1;
+                    }
+                }
+            }
+        }
+        // Sort and de-duplicate each row in place, compacting the arrays.
+        let mut write = 0;
+        let mut start = 0;
+        for i in 0..n {
+            let end = fill[i];
+            let row = &mut self.col[start..end];
+            row.sort_unstable();
+            let row_start = write;
+            let mut last = usize::MAX;
+            for k in start..end {
+                let c = self.col[k];
+                if c != last {
+                    self.col[write] = c;
+                    write += 1;
+                    last = c;
+                }
+            }
+            start = self.row_ptr[i + 1];
+            self.row_ptr[i] = row_start;
+        }
+        self.row_ptr[n] = write;
+        self.col.truncate(write);
+        self.val.clear();
+        self.val.resize(write, 0.0);
+    }
+
+    #[inline]
+    fn add(&mut self, row: usize, col: usize, v: f64) {
+        let cols = &self.col[self.row_ptr[row]..self.row_ptr[row + 1]];
+        let k = cols
+            .iter()
+            .position(|&c| c == col)
+            .expect("entry in pattern");
+        self.val[self.row_ptr[row] + k] += v;
+    }
+
+    /// y = A x.
+    pub fn apply(&self, x: &[f64], y: &mut [f64]) {
+        for (i, yi) in y.iter_mut().enumerate() {
+            let (s, e) = (self.row_ptr[i], self.row_ptr[i + 1]);
+            *yi = self.col[s..e]
+                .iter()
+                .zip(&self.val[s..e])
+                .map(|(&c, v)| v * x[c])
+                .sum();
+        }
+    }
+
+    fn matrix(&self) -> SparseColMatRef<'_, usize, f64> {
+        let n = self.unknowns();
+        let symbolic = SymbolicSparseColMatRef::new_checked(n, n, &self.row_ptr, None, &self.col);
+        SparseColMatRef::new(symbolic, &self.val)
+    }
+
+    /// Solves the system in place into `x` with the chosen method; returns iterations (0 for a
+    /// direct solve).
+    pub fn solve(
+        &mut self,
+        method: PressureSolver,
+        rel_tolerance: f64,
+        max_iterations: usize,
+    ) -> Result<usize, String> {
+        let n = self.unknowns();
+        if n == 0 {
+            return Ok(0);
+        }
+        match method {
+            PressureSolver::Cholesky => {
+                use faer::linalg::solvers::Solve;
+                let llt = self.matrix().sp_cholesky(faer::Side::Lower).map_err(|e| {
+                    format!("sparse Cholesky failed ({e:?}): matrix not positive definite")
+                })?;
+                let mut b = faer::Mat::<f64>::from_fn(n, 1, |i, _| self.rhs[i]);
+                llt.solve_in_place(b.as_mut());
+                for i in 0..n {
+                    self.x[i] = b[(i, 0)];
+                }
+                Ok(0)
+            }
+            PressureSolver::Cg => {
+                use faer::dyn_stack::{MemBuffer, MemStack};
+                use faer::matrix_free::conjugate_gradient::{
+                    CgParams, conjugate_gradient, conjugate_gradient_scratch,
+                };
+                let a = self.matrix();
+                let mut dinv = faer::diag::Diag::<f64>::zeros(n);
+                for i in 0..n {
+                    let (s, e) = (self.row_ptr[i], self.row_ptr[i + 1]);
+                    let d = (s..e)
+                        .find(|&k| self.col[k] == i)
+                        .map_or(0.0, |k| self.val[k]);
+                    dinv[i] = if d > 0.0 { 1.0 / d } else { 1.0 };
+                }
+                let precond = dinv.as_ref();
+                let par = faer::Par::Seq;
+                let mut mem = MemBuffer::new(conjugate_gradient_scratch(precond, a, 1, par));
+                let mut x = faer::Mat::<f64>::from_fn(n, 1, |i, _| self.x[i]);
+                let b = faer::Mat::<f64>::from_fn(n, 1, |i, _| self.rhs[i]);
+                let params = CgParams {
+                    rel_tolerance,
+                    max_iters: max_iterations,
+                    ..Default::default()
+                };
+                let info = conjugate_gradient(
+                    x.as_mut(),
+                    precond,
+                    a,
+                    b.as_ref(),
+                    params,
+                    |_| {},
+                    par,
+                    MemStack::new(&mut mem),
+                )
+                .map_err(|e| format!("conjugate gradients did not converge: {e:?}"))?;
+                for i in 0..n {
+                    self.x[i] = x[(i, 0)];
+                }
+                Ok(info.iter_count)
+            }
+        }
+    }
+}
+
+impl Solver {
+    pub(super) fn assemble_pressure(&mut self, particles: &Particles, dt: f64) {
+        let rho = self.params.density_kg_m3;
+        let gamma = self.params.gamma;
+        let n = particles.len();
+        let mesh = &self.mesh;
+        // Dirichlet p = 0: free-surface nodes and nodes in no kept triangle.
+        self.dirichlet.clear();
+        self.dirichlet
+            .extend((0..n).map(|i| mesh.free_surface[i] || !mesh.in_mesh[i]));
+        pin_sealed_components(mesh, particles, &mut self.dirichlet);
+
+        let sys = &mut self.pressure;
+        sys.row_of_node.clear();
+        sys.row_of_node.resize(n, NONE);
+        sys.node_of_row.clear();
+        for i in 0..n {
+            if !self.dirichlet[i] {
+                sys.row_of_node[i] = sys.node_of_row.len() as u32;
+                sys.node_of_row.push(i as u32);
+            }
+        }
+        sys.build_pattern(&mesh.triangles);
+        let m = sys.unknowns();
+        sys.rhs.clear();
+        sys.rhs.resize(m, 0.0);
+        sys.x.clear();
+        sys.x.extend(
+            sys.node_of_row
+                .iter()
+                .map(|&i| particles.pressure[i as usize]),
+        );
+
+        let (p_old, pi_old, u_t) = (
+            &self.p_old,
+            &particles.pressure_gradient_projection,
+            &self.u_tilde,
+        );
+        for (k, t) in mesh.triangles.iter().enumerate() {
+            let e = &self.elems[k];
+            let idx = t.map(|i| i as usize);
+            let tau = self.tau_e[k];
+            let c = (dt / rho + tau) * e.area;
+            let div_u: f64 = (0..3).map(|a| e.grad[a].dot(&u_t[idx[a]])).sum();
+            let grad_p: Vector2<f64> = (0..3).map(|a| e.grad[a] * p_old[idx[a]]).sum();
+            let pi_mean = (pi_old[idx[0]] + pi_old[idx[1]] + pi_old[idx[2]]) / 3.0;
+            let flux = gamma * (dt / rho) * grad_p - tau * pi_mean;
+            for a in 0..3 {
+                let ra = sys.row_of_node[idx[a]];
+                if ra == NONE {
+                    continue;
+                }
+                let ra = ra as usize;
+                sys.rhs[ra] += -e.area / 3.0 * div_u + e.area * e.grad[a].dot(&flux);
+                for b in 0..3 {
+                    let rb = sys.row_of_node[idx[b]];
+                    if rb != NONE {
+                        sys.add(ra, rb as usize, c * e.grad[a].dot(&e.grad[b]));
+                    }
+                }
+            }
+        }
+    }
+
+    pub(super) fn solve_pressure(&mut self, particles: &Particles) -> Result<usize, StepError> {
+        let p = &self.params;
+        let iterations = self
+            .pressure
+            .solve(p.pressure_solver, p.cg_tolerance, p.cg_max_iterations)
+            .map_err(StepError::Pressure)?;
+        self.p_new.clear();
+        self.p_new.resize(particles.len(), 0.0);
+        for (r, &i) in self.pressure.node_of_row.iter().enumerate() {
+            let v = self.pressure.x[r];
+            if !v.is_finite() {
+                let x = particles.position[i as usize];
+                return Err(StepError::NonFinite {
+                    quantity: "pressure",
+                    node: i as usize,
+                    x: x.x,
+                    y: x.y,
+                });
+            }
+            self.p_new[i as usize] = v;
+        }
+        Ok(iterations)
+    }
+}
+
+/// A connected piece of the mesh with no free-surface node (water sealed by walls, or a
+/// pocket whose surface nodes are all wall nodes) would leave the pressure undetermined up to
+/// a constant: pin its highest node to p = 0.
+fn pin_sealed_components(mesh: &crate::mesh::Mesh, particles: &Particles, dirichlet: &mut [bool]) {
+    let n = particles.len();
+    let (label, count) = mesh.components(n);
+    let mut has_dirichlet = vec![false; count];
+    let mut top: Vec<Option<usize>> = vec![None; count];
+    for i in 0..n {
+        let c = label[i];
+        if c == u32::MAX {
+            continue;
+        }
+        let c = c as usize;
+        if dirichlet[i] {
+            has_dirichlet[c] = true;
+        }
+        if top[c].is_none_or(|j| particles.position[i].y > particles.position[j].y) {
+            top[c] = Some(i);
+        }
+    }
+    for c in 0..count {
+        if let (false, Some(i)) = (has_dirichlet[c], top[c]) {
+            dirichlet[i] = true;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pattern_of_two_triangles() {
+        let mut sys = PressureSystem {
+            row_of_node: vec![0, 1, 2, NONE],
+            node_of_row: vec![0, 1, 2],
+            ..Default::default()
+        };
+        sys.build_pattern(&[[0, 1, 2], [1, 3, 2]]);
+        assert_eq!(sys.row_ptr, vec![0, 3, 6, 9]);
+        assert_eq!(sys.col, vec![0, 1, 2, 0, 1, 2, 0, 1, 2]);
+    }
+}

@@ -1,0 +1,73 @@
+//! Helpers shared by the integration tests: loading cases, running them headless into a
+//! temporary folder, and reading the reference data in `assets/validation/`.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use surflab::case::Case;
+use surflab::output::run::{RunOptions, RunOutcome, run};
+
+pub fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+pub fn case(name: &str, overrides: &[&str]) -> Case {
+    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    Case::load(&root().join("cases").join(name), &o).expect("case loads")
+}
+
+/// A fresh, empty output folder for one test.
+pub fn out_dir(test: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("surflab-test-{}-{test}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+pub fn run_case(case: &Case, test: &str, rrd: bool) -> RunOutcome {
+    run(
+        case,
+        &RunOptions {
+            out_dir: out_dir(test),
+            rrd,
+            progress: false,
+        },
+    )
+    .expect("run completes its files")
+}
+
+/// The numeric columns of a reference CSV (lines starting with # are comments; empty cells NaN).
+pub fn reference(name: &str) -> Vec<Vec<f64>> {
+    let text = std::fs::read_to_string(root().join("assets/validation").join(name)).unwrap();
+    text.lines()
+        .filter(|l| !l.starts_with('#'))
+        .skip(1)
+        .map(|l| {
+            l.split(',')
+                .map(|v| v.trim().parse().unwrap_or(f64::NAN))
+                .collect()
+        })
+        .collect()
+}
+
+/// Linear interpolation of the sampled function (xs, ys) at x.
+pub fn interpolate(xs: &[f64], ys: &[f64], x: f64) -> f64 {
+    let k = xs.partition_point(|&v| v < x).clamp(1, xs.len() - 1);
+    let (x0, x1, y0, y1) = (xs[k - 1], xs[k], ys[k - 1], ys[k]);
+    y0 + (y1 - y0) * (x - x0) / (x1 - x0)
+}
+
+pub fn exists(path: &Path) -> bool {
+    path.metadata().map(|m| m.len() > 0).unwrap_or(false)
+}
+
+/// Decodes a whole .rrd file and returns the number of messages in it.
+pub fn rrd_messages(path: &Path) -> Result<usize, String> {
+    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    let decoder = re_log_encoding::DecoderApp::decode_eager(std::io::BufReader::new(file))
+        .map_err(|e| e.to_string())?;
+    let mut count = 0;
+    for msg in decoder {
+        let _message = msg.map_err(|e| e.to_string())?;
+        count += 1;
+    }
+    Ok(count)
+}

@@ -1,0 +1,40 @@
+//! A run that meets numerical trouble must stop with a status naming it, exit non-zero, and
+//! leave its timeseries.csv, summary.json and run.rrd readable.
+//!
+//! The trouble is made on purpose: a density of 1e-310 kg/m³ (subnormal) makes Δt/ρ overflow
+//! to infinity, so the very first pressure system is not finite.
+
+mod common;
+
+use std::process::Command;
+
+#[test]
+fn nan_stops_the_run_and_keeps_what_was_recorded() {
+    let dir = common::out_dir("nan");
+    let out = Command::new(env!("CARGO_BIN_EXE_surflab"))
+        .current_dir(common::root())
+        .args(["run", "cases/still_water.toml", "--quiet", "--out"])
+        .arg(&dir)
+        .args([
+            "--set",
+            "fluid.density_kg_m3=1e-310",
+            "--set",
+            "time.end_s=0.2",
+        ])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    println!("exit {:?}: {stderr}", out.status.code());
+    assert_eq!(out.status.code(), Some(1));
+    assert!(stderr.contains("did not finish"));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let status = summary["status"].as_str().unwrap();
+    println!("status: {status}");
+    assert!(status.starts_with("stopped at t = "), "{status}");
+    let csv = std::fs::read_to_string(dir.join("timeseries.csv")).unwrap();
+    assert!(csv.lines().count() >= 2, "header and the t = 0 row");
+    let messages = common::rrd_messages(&dir.join("run.rrd")).expect("run.rrd decodes");
+    println!("run.rrd: {messages} messages");
+    assert!(messages > 0);
+}
