@@ -188,6 +188,8 @@ pub struct Solver {
     /// Area of the last step's mesh after its move (NaN before the first step).
     moved_area: Option<f64>,
     pressure: PressureSystem,
+    /// The symbolic Cholesky analysis of this step, running on a second thread.
+    symbolic_job: Option<pressure::SymbolicJob>,
     cg: cg::Scratch,
 }
 

@@ -8,12 +8,19 @@
 //! stabilisation vanishes where the pressure gradient is smooth (hydrostatic water included).
 //! p = 0 is imposed strongly on free-surface and isolated nodes; wall nodes are unknowns. The
 //! matrix is symmetric positive definite and assembled straight into CSR from the mesh.
+//!
+//! The pattern and the Dirichlet set are known as soon as the α-shape is: `prepare_pressure`
+//! builds the pattern and, for the Cholesky solver, starts faer's symbolic analysis (the
+//! fill-reducing ordering, about 40 % of the solve at 5 000 unknowns) on a second thread, which
+//! works while this one computes the element properties, the predictor and the matrix values.
 
 use super::{Solver, StepError};
 use crate::case::PressureSolver;
 use crate::particles::Particles;
+use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use nalgebra::Vector2;
+use std::thread::JoinHandle;
 
 const NONE: u32 = u32::MAX;
 
@@ -29,6 +36,18 @@ pub struct PressureSystem {
     pub rhs: Vec<f64>,
     /// Solution, warm-started from the previous pressure.
     pub x: Vec<f64>,
+    /// The symbolic Cholesky analysis of this step's pattern, once known.
+    symbolic: Option<SymbolicLlt<usize>>,
+}
+
+/// The symbolic analysis running on the second thread.
+pub(super) type SymbolicJob = JoinHandle<Result<SymbolicLlt<usize>, String>>;
+
+/// Symbolic Cholesky analysis of a symmetric pattern (full CSR = CSC).
+fn analyse(n: usize, row_ptr: &[usize], col: &[usize]) -> Result<SymbolicLlt<usize>, String> {
+    let pattern = SymbolicSparseColMatRef::new_checked(n, n, row_ptr, None, col);
+    SymbolicLlt::try_new(pattern, faer::Side::Lower)
+        .map_err(|e| format!("symbolic Cholesky analysis failed: {e:?}"))
 }
 
 impl PressureSystem {
@@ -139,9 +158,14 @@ impl PressureSystem {
         match method {
             PressureSolver::Cholesky => {
                 use faer::linalg::solvers::Solve;
-                let llt = self.matrix().sp_cholesky(faer::Side::Lower).map_err(|e| {
-                    format!("sparse Cholesky failed ({e:?}): matrix not positive definite")
-                })?;
+                let symbolic = match &self.symbolic {
+                    Some(s) => s.clone(),
+                    None => analyse(n, &self.row_ptr, &self.col)?,
+                };
+                let llt = Llt::try_new_with_symbolic(symbolic, self.matrix(), faer::Side::Lower)
+                    .map_err(|e| {
+                        format!("sparse Cholesky failed ({e:?}): matrix not positive definite")
+                    })?;
                 let mut b = faer::Mat::<f64>::from_fn(n, 1, |i, _| self.rhs[i]);
                 llt.solve_in_place(b.as_mut());
                 for i in 0..n {
@@ -194,9 +218,9 @@ impl PressureSystem {
 }
 
 impl Solver {
-    pub(super) fn assemble_pressure(&mut self, particles: &Particles, dt: f64) {
-        let rho = self.params.density_kg_m3;
-        let gamma = self.params.gamma;
+    /// The Dirichlet set, the numbering of the unknowns and the matrix pattern; for Cholesky,
+    /// starts the symbolic analysis on a second thread.
+    pub(super) fn prepare_pressure(&mut self, particles: &Particles) {
         let n = particles.len();
         let mesh = &self.mesh;
         // Dirichlet p = 0: free-surface nodes and nodes in no kept triangle.
@@ -216,7 +240,23 @@ impl Solver {
             }
         }
         sys.build_pattern(&mesh.triangles);
+        sys.symbolic = None;
+        self.symbolic_job = None;
         let m = sys.unknowns();
+        if self.params.pressure_solver == PressureSolver::Cholesky && m > 0 {
+            let (row_ptr, col) = (sys.row_ptr.clone(), sys.col.clone());
+            self.symbolic_job = Some(std::thread::spawn(move || analyse(m, &row_ptr, &col)));
+        }
+    }
+
+    /// Matrix values and right-hand side for this Δt (the pattern is `prepare_pressure`'s).
+    pub(super) fn assemble_pressure(&mut self, particles: &Particles, dt: f64) {
+        let rho = self.params.density_kg_m3;
+        let gamma = self.params.gamma;
+        let mesh = &self.mesh;
+        let sys = &mut self.pressure;
+        let m = sys.unknowns();
+        sys.val.iter_mut().for_each(|v| *v = 0.0);
         sys.rhs.clear();
         sys.rhs.resize(m, 0.0);
         sys.x.clear();
@@ -258,6 +298,13 @@ impl Solver {
     }
 
     pub(super) fn solve_pressure(&mut self, particles: &Particles) -> Result<usize, StepError> {
+        if let Some(job) = self.symbolic_job.take() {
+            let symbolic = job
+                .join()
+                .map_err(|_| StepError::Pressure("the symbolic analysis thread panicked".into()))?
+                .map_err(StepError::Pressure)?;
+            self.pressure.symbolic = Some(symbolic);
+        }
         let p = &self.params;
         let iterations = self
             .pressure

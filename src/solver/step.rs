@@ -6,7 +6,8 @@
 //! 3. `elements`: areas, gradients, lumped mass, Smagorinsky μ_e, τ;
 //! 4. `predict`: ũ from momentum without the pressure increment;
 //! 5. `assemble` + `pressure_solve`: (Δt/ρ L + L_τ) pⁿ⁺¹ = −Dũ + γ(Δt/ρ)L pⁿ − Qπⁿ, p = 0 on the
-//!    free surface;
+//!    free surface (the pattern is built right after the α-shape, so that its symbolic
+//!    factorisation runs on the second core during stages 3–5);
 //! 6. `correct`: uⁿ⁺¹ = ũ + Δt M⁻¹ Dᵀ(pⁿ⁺¹ − γpⁿ), and π from pⁿ⁺¹;
 //! 7. `move`: xⁿ⁺¹ = xⁿ + Δt uⁿ⁺¹ (thesis eq. 2.59), then the wall guard.
 //!
@@ -50,6 +51,7 @@ impl Solver {
             mesh::alpha_shape(&tri, particles, alpha, alpha_b, h, &mut self.mesh)
         });
         drop(tri);
+        timed(&mut t.assemble_ms, || self.prepare_pressure(particles));
         let area_before_move = self.mesh.area(&particles.position);
         let remesh_change = self.moved_area.map_or(0.0, |a| area_before_move - a);
 
