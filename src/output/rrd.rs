@@ -223,8 +223,13 @@ impl RrdLogger {
         let flume = Spatial2DView::new("flume")
             .with_origin("/")
             .with_contents(["/world/**"]);
-        let scalars = TimeSeriesView::new("scalars").with_origin("/scalars");
+        // Physical series and per-stage timings have different units: one view each.
+        let scalars = TimeSeriesView::new("diagnostics")
+            .with_origin("/scalars")
+            .with_contents(["+ /scalars/**", "- /scalars/timing_ms/**"]);
+        let timings = TimeSeriesView::new("ms per stage").with_origin("/scalars/timing_ms");
         let info = Tabs::new([
+            timings.into(),
             TextDocumentView::new("legend")
                 .with_origin("/legend")
                 .into(),
