@@ -6,8 +6,8 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 use surflab::case::Case;
 use surflab::output::colormap::ColorScale;
-use surflab::output::rrd::{FrameView, RrdLogger};
-use surflab::output::run::{RunOptions, run};
+use surflab::output::rrd::RrdLogger;
+use surflab::output::run::{RunOptions, log_frame, run};
 use surflab::output::summary::median;
 use surflab::simulation::Simulation;
 
@@ -190,18 +190,11 @@ fn cmd_bench(path: &Path, steps: u64, json: bool, set: &[String]) -> Result<()> 
         total.push(report.timings.total_ms());
         iters.push(report.pressure_iterations as f64);
         if k % every == 0 {
+            // What `run` does at each output: the integrals and one frame.
             let t0 = Instant::now();
-            let p = &sim.particles;
-            let is_fluid: Vec<bool> = (0..p.len()).map(|i| p.is_fluid(i)).collect();
-            rrd.log_frame(&FrameView {
-                t_s: sim.time_s,
-                positions: &p.position,
-                velocities: &p.velocity,
-                is_fluid: &is_fluid,
-                boundary_edges: &sim.solver.mesh.boundary_edges,
-                triangles: None,
-                scalars: &[],
-            })?;
+            let m = surflab::diagnostics::integrals(&sim);
+            log_frame(&mut rrd, &sim, &m, Some(&report.timings), false)
+                .map_err(anyhow::Error::msg)?;
             log_ms.push(t0.elapsed().as_secs_f64() * 1e3);
         }
     }

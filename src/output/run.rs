@@ -172,7 +172,8 @@ pub fn run(case: &Case, opts: &RunOptions) -> Result<RunOutcome, RunError> {
     })
 }
 
-fn log_frame(
+/// Logs one frame of `sim` with the integrals `m` and the stage timings of the last step.
+pub fn log_frame(
     rrd: &mut RrdLogger,
     sim: &Simulation,
     m: &Integrals,

@@ -14,7 +14,10 @@ mod predict;
 pub mod pressure;
 mod step;
 
-use crate::case::{Case, PressureSolver, TauFormula};
+use crate::case::{
+    Case, DtPolicy, Fluid, ParticleSettings, PressureSolver, SolverSettings, TauFormula,
+    TimeSettings,
+};
 use crate::fem::P1;
 use crate::mesh::{Mesh, MeshError, Vertex};
 use nalgebra::Vector2;
@@ -52,12 +55,21 @@ pub struct SolverParams {
 
 impl SolverParams {
     pub fn from_case(case: &Case) -> SolverParams {
-        let s = &case.solver;
+        Self::resolve(&case.fluid, &case.particles, &case.solver, &case.time)
+    }
+
+    /// Resolves the case's settings (units, derived lengths) into solver parameters.
+    pub fn resolve(
+        fluid: &Fluid,
+        particles: &ParticleSettings,
+        s: &SolverSettings,
+        time: &TimeSettings,
+    ) -> SolverParams {
         SolverParams {
-            density_kg_m3: case.fluid.density_kg_m3,
-            viscosity_pa_s: case.fluid.viscosity_pa_s,
-            gravity_m_s2: Vector2::new(0.0, -case.fluid.gravity_m_s2),
-            spacing_m: case.particles.spacing_m,
+            density_kg_m3: fluid.density_kg_m3,
+            viscosity_pa_s: fluid.viscosity_pa_s,
+            gravity_m_s2: Vector2::new(0.0, -fluid.gravity_m_s2),
+            spacing_m: particles.spacing_m,
             alpha: s.alpha,
             alpha_boundary: s.alpha_boundary,
             gamma: s.gamma,
@@ -67,11 +79,11 @@ impl SolverParams {
             pressure_solver: s.pressure_solver,
             cg_tolerance: s.cg_tolerance,
             cg_max_iterations: s.cg_max_iterations,
-            wall_margin_m: s.wall_margin_h * case.particles.spacing_m,
+            wall_margin_m: s.wall_margin_h * particles.spacing_m,
             insert_radius_h: s.insert_radius_h,
             remove_distance_h: s.remove_distance_h,
-            dt_min_s: case.time.dt_min_s,
-            adaptive_dt: case.time.dt_policy == crate::case::DtPolicy::Cfl,
+            dt_min_s: time.dt_min_s,
+            adaptive_dt: time.dt_policy == DtPolicy::Cfl,
         }
     }
 }
@@ -193,28 +205,15 @@ pub struct Solver {
     cg: cg::Scratch,
 }
 
+/// The case's defaults, so that the two never disagree.
 impl Default for SolverParams {
     fn default() -> Self {
-        SolverParams {
-            density_kg_m3: 1000.0,
-            viscosity_pa_s: 1e-3,
-            gravity_m_s2: Vector2::new(0.0, -9.81),
-            spacing_m: 0.01,
-            alpha: 1.2,
-            alpha_boundary: 1.0,
-            gamma: 1.0,
-            theta: 0.0,
-            smagorinsky_cs: 0.12,
-            tau: TauFormula::Inertial,
-            pressure_solver: PressureSolver::Cholesky,
-            cg_tolerance: 1e-8,
-            cg_max_iterations: 2000,
-            wall_margin_m: 0.004,
-            insert_radius_h: 0.9,
-            remove_distance_h: 0.35,
-            dt_min_s: 1e-6,
-            adaptive_dt: true,
-        }
+        Self::resolve(
+            &Fluid::default(),
+            &ParticleSettings::default(),
+            &SolverSettings::default(),
+            &TimeSettings::default(),
+        )
     }
 }
 

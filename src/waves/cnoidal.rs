@@ -59,10 +59,8 @@
 //! tabulated period, which is exact because the post-ramp path is periodic.
 
 use super::elliptic::JacobiElliptic;
-use super::{Result, WaveError, half_cosine_ramp, require_positive};
+use super::{Result, WaveError, half_cosine_ramp, require_positive, require_unbroken};
 
-/// Largest height-to-depth ratio accepted (depth-limited breaking).
-const MAX_HEIGHT_TO_DEPTH: f64 = 0.78;
 /// Scan range and resolution of the logit `s = log10((1 − m)/m)`.
 const LOGIT_MIN: f64 = -200.0;
 const LOGIT_MAX: f64 = 12.0;
@@ -159,12 +157,7 @@ impl CnoidalWave {
         let period_s = require_positive("period_s", period_s)?;
         let depth_m = require_positive("depth_m", depth_m)?;
         let gravity_m_s2 = require_positive("gravity_m_s2", gravity_m_s2)?;
-        if height_m >= MAX_HEIGHT_TO_DEPTH * depth_m {
-            return Err(WaveError::TooSteep {
-                height_m,
-                max_height_m: MAX_HEIGHT_TO_DEPTH * depth_m,
-            });
-        }
+        require_unbroken(height_m, depth_m)?;
         let implied = |logit: f64| trial(height_m, depth_m, gravity_m_s2, logit);
 
         // Scan upward from m → 1 for the first logit whose implied period

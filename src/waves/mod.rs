@@ -99,6 +99,20 @@ pub type Result<T> = std::result::Result<T, WaveError>;
 
 /// Returns `value` if it is finite and strictly positive, otherwise a
 /// [`WaveError::NonPositive`] naming the argument.
+/// Largest wave height to depth ratio the long-wave paddles accept (the breaking limit).
+pub(crate) const MAX_HEIGHT_TO_DEPTH: f64 = 0.78;
+
+/// Refuses a wave at or above the breaking limit H/h = 0.78.
+pub(crate) fn require_unbroken(height_m: f64, depth_m: f64) -> Result<()> {
+    if height_m >= MAX_HEIGHT_TO_DEPTH * depth_m {
+        return Err(WaveError::TooSteep {
+            height_m,
+            max_height_m: MAX_HEIGHT_TO_DEPTH * depth_m,
+        });
+    }
+    Ok(())
+}
+
 pub(crate) fn require_positive(name: &'static str, value: f64) -> Result<f64> {
     if value.is_finite() && value > 0.0 {
         Ok(value)

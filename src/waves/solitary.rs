@@ -29,10 +29,8 @@
 //! `1 + (H/h) sech²θ ∈ [1, 1 + H/h]`, so the root is unique and brackets are
 //! easy: `X ∈ [0, 2A]` for `t ∈ [0, t_end]`.
 
-use super::{Result, WaveError, require_positive};
+use super::{Result, require_positive, require_unbroken};
 
-/// Largest height-to-depth ratio accepted (solitary wave breaking).
-const MAX_HEIGHT_TO_DEPTH: f64 = 0.78;
 /// Value of |θ| at start and end of the motion: `sech²(3.8) ≈ 0.002`.
 const START_DECAY: f64 = 3.8;
 
@@ -64,12 +62,7 @@ impl SolitaryPaddle {
         let height_m = require_positive("height_m", height_m)?;
         let depth_m = require_positive("depth_m", depth_m)?;
         let gravity_m_s2 = require_positive("gravity_m_s2", gravity_m_s2)?;
-        if height_m >= MAX_HEIGHT_TO_DEPTH * depth_m {
-            return Err(WaveError::TooSteep {
-                height_m,
-                max_height_m: MAX_HEIGHT_TO_DEPTH * depth_m,
-            });
-        }
+        require_unbroken(height_m, depth_m)?;
         let kappa_per_m = (3.0 * height_m / (4.0 * depth_m.powi(3))).sqrt();
         let celerity_m_s = (gravity_m_s2 * (depth_m + height_m)).sqrt();
         let crest_time_s = START_DECAY / (kappa_per_m * celerity_m_s);
@@ -168,6 +161,7 @@ impl SolitaryPaddle {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::waves::WaveError;
 
     const G: f64 = 9.81;
 
