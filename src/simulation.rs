@@ -32,8 +32,8 @@ impl Simulation {
             let level = case
                 .water
                 .iter()
-                .filter(|w| x.x >= w.x_start_m - 0.5 * h && x.x <= w.x_end_m + 0.5 * h)
-                .map(|w| w.depth_m)
+                .filter(|w| w.spans(x.x, 0.5 * h))
+                .map(|w| w.level_at(x.x.clamp(w.x_start_m, w.x_end_m)))
                 .fold(f64::NEG_INFINITY, f64::max);
             // Hydrostatic pressure, and π = −∇p = (0, ρg) on every node of the water, the
             // surface row included, so that the FIC term starts balanced.

@@ -121,6 +121,31 @@ pub struct WaterRegion {
     pub x_end_m: f64,
     /// Still-water level above the flume floor (y = 0).
     pub depth_m: f64,
+    /// Amplitude of an initial standing-wave surface, η(x) = A cos(nπ(x − x_start)/width).
+    #[serde(default)]
+    pub surface_amplitude_m: f64,
+    /// Mode n of that surface (1: one half wavelength over the region).
+    #[serde(default = "default_mode")]
+    pub surface_mode: u32,
+}
+
+fn default_mode() -> u32 {
+    1
+}
+
+impl WaterRegion {
+    /// Initial surface level above the flume floor at `x_m`.
+    pub fn level_at(&self, x_m: f64) -> f64 {
+        let width = self.x_end_m - self.x_start_m;
+        let phase =
+            std::f64::consts::PI * self.surface_mode as f64 * (x_m - self.x_start_m) / width;
+        self.depth_m + self.surface_amplitude_m * phase.cos()
+    }
+
+    /// Does the region span `x_m` (give or take `tolerance_m`)?
+    pub fn spans(&self, x_m: f64, tolerance_m: f64) -> bool {
+        x_m >= self.x_start_m - tolerance_m && x_m <= self.x_end_m + tolerance_m
+    }
 }
 
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
@@ -254,6 +279,8 @@ pub struct OutputSettings {
     pub mesh: bool,
     /// Colour range for u1; empty means ±sqrt(g·d) of the deepest water region.
     pub u1_range_m_s: Vec<f64>,
+    /// Surface-elevation gauges: x positions, m. Recorded to gauges.csv at every output.
+    pub gauges_x_m: Vec<f64>,
 }
 
 impl Default for OutputSettings {
@@ -262,6 +289,7 @@ impl Default for OutputSettings {
             interval_s: 0.02,
             mesh: false,
             u1_range_m_s: Vec::new(),
+            gauges_x_m: Vec::new(),
         }
     }
 }
@@ -321,6 +349,15 @@ impl Case {
                 message,
             })?;
         Ok(case)
+    }
+
+    /// The still-water level at `x_m`: the depth of the deepest region spanning it.
+    pub fn still_level_at(&self, x_m: f64) -> Option<f64> {
+        self.water
+            .iter()
+            .filter(|w| w.spans(x_m, 0.0))
+            .map(|w| w.depth_m)
+            .reduce(f64::max)
     }
 
     /// The deepest still-water depth over all regions, measured from the bed under the region.
@@ -418,7 +455,20 @@ impl Case {
                     format!("depth must be positive, got {} m", w.depth_m),
                 );
             }
-            if w.depth_m >= self.flume.height_m {
+            if !w.surface_amplitude_m.is_finite() || w.surface_amplitude_m.abs() >= 0.5 * w.depth_m
+            {
+                return err(
+                    &f("surface_amplitude_m"),
+                    format!(
+                        "must be smaller than half the depth, got {} m",
+                        w.surface_amplitude_m
+                    ),
+                );
+            }
+            if w.surface_mode == 0 {
+                return err(&f("surface_mode"), "must be at least 1".into());
+            }
+            if w.depth_m + w.surface_amplitude_m.abs() >= self.flume.height_m {
                 return err(
                     &f("depth_m"),
                     format!(
@@ -519,6 +569,20 @@ impl Case {
             return err("time.cfl", format!("must lie in (0, 1], got {}", t.cfl));
         }
         positive("output.interval_s", self.output.interval_s)?;
+        if let Some(x) = self
+            .output
+            .gauges_x_m
+            .iter()
+            .find(|x| !(x.is_finite() && **x >= 0.0 && **x <= self.flume.length_m))
+        {
+            return err(
+                "output.gauges_x_m",
+                format!(
+                    "gauge at x = {x} m lies outside the flume [0, {}] m",
+                    self.flume.length_m
+                ),
+            );
+        }
         match self.output.u1_range_m_s.as_slice() {
             [] => {}
             [lo, hi] if lo.is_finite() && hi.is_finite() && lo < hi => {}

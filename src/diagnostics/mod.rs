@@ -108,3 +108,27 @@ pub fn hydrostatic_error(sim: &Simulation, y_m: f64, x_range_m: (f64, f64)) -> (
         / picked.len().max(1) as f64;
     (err, picked.len())
 }
+
+/// Surface elevation η at `x_m`, m above the still-water level there: the highest crossing of
+/// the vertical line x = x_m with a boundary edge of the kept mesh that is not a wall–wall edge
+/// (so the free surface, overturned parts included; the highest one is taken). `None` when no
+/// water stands at x_m.
+pub fn surface_elevation(sim: &Simulation, x_m: f64) -> Option<f64> {
+    let p = &sim.particles;
+    let level = sim.case.still_level_at(x_m).unwrap_or(0.0);
+    sim.solver
+        .mesh
+        .boundary_edges
+        .iter()
+        .filter(|[a, b]| p.is_fluid(*a as usize) || p.is_fluid(*b as usize))
+        .filter_map(|[a, b]| {
+            let (pa, pb) = (p.position[*a as usize], p.position[*b as usize]);
+            let (lo, hi) = if pa.x <= pb.x { (pa, pb) } else { (pb, pa) };
+            if x_m < lo.x || x_m > hi.x || hi.x == lo.x {
+                return None;
+            }
+            Some(lo.y + (hi.y - lo.y) * (x_m - lo.x) / (hi.x - lo.x))
+        })
+        .reduce(f64::max)
+        .map(|y| y - level)
+}

@@ -140,9 +140,10 @@ impl Flume {
     }
 }
 
-/// Fluid particles on a regular lattice inside the water regions: for each region the lattice
-/// spacing is adjusted so that whole numbers of cells fit its width and its depth; points closer
-/// than h/2 to the solid (where wall nodes stand) or to an already seeded particle are skipped.
+/// Fluid particles on a lattice inside the water regions: for each region the spacing is
+/// adjusted so that whole numbers of cells fit its width, and each column is divided evenly up
+/// to the local initial surface (flat, or a standing-wave shape); points closer than h/2 to the
+/// solid (where wall nodes stand) or to an already seeded particle are skipped.
 pub fn seed_fluid(case: &Case, flume: &Flume) -> Vec<Vector2<f64>> {
     let h = case.particles.spacing_m;
     let mut points: Vec<Vector2<f64>> = Vec::new();
@@ -152,11 +153,11 @@ pub fn seed_fluid(case: &Case, flume: &Flume) -> Vec<Vector2<f64>> {
         let nx = (width / h).round().max(1.0) as usize;
         let dx = width / nx as f64;
         let ny = (w.depth_m / h).round().max(1.0) as usize;
-        let dy = w.depth_m / ny as f64;
-        for j in 0..=ny {
-            let y = j as f64 * dy;
-            for i in 0..=nx {
-                let x = w.x_start_m + i as f64 * dx;
+        for i in 0..=nx {
+            let x = w.x_start_m + i as f64 * dx;
+            let dy = w.level_at(x) / ny as f64;
+            for j in 0..=ny {
+                let y = j as f64 * dy;
                 let p = Vector2::new(x, y);
                 if y < flume.bed_y(x) || flume.distance_to_solid(p) < 0.5 * h {
                     continue;

@@ -5,7 +5,7 @@
 use super::colormap::ColorScale;
 use super::rrd::{FrameView, RrdLogger};
 use super::summary::{Summary, median};
-use super::timeseries::TimeseriesWriter;
+use super::timeseries::{GaugeWriter, TimeseriesWriter};
 use crate::case::Case;
 use crate::diagnostics::{self, Integrals};
 use crate::simulation::Simulation;
@@ -62,6 +62,13 @@ pub fn run(case: &Case, opts: &RunOptions) -> Result<RunOutcome, RunError> {
     let mut sim = Simulation::new(case).map_err(|e| RunError::Setup(e.to_string()))?;
     let csv_path = opts.out_dir.join("timeseries.csv");
     let mut csv = TimeseriesWriter::create(&csv_path).map_err(io_err(&csv_path))?;
+    let gauges_x = &case.output.gauges_x_m;
+    let gauge_path = opts.out_dir.join("gauges.csv");
+    let mut gauge_csv = if gauges_x.is_empty() {
+        None
+    } else {
+        Some(GaugeWriter::create(&gauge_path, gauges_x).map_err(io_err(&gauge_path))?)
+    };
     let rrd_path = opts.out_dir.join("run.rrd");
     let mut rrd = if opts.rrd {
         let (lo, hi) = case.u1_range();
@@ -103,6 +110,13 @@ pub fn run(case: &Case, opts: &RunOptions) -> Result<RunOutcome, RunError> {
         let m = diagnostics::integrals(sim);
         csv.row(&m, sim.initial_volume_m2, sim.steps, last_dt)
             .map_err(io_err(&csv_path))?;
+        if let Some(g) = gauge_csv.as_mut() {
+            let eta: Vec<Option<f64>> = gauges_x
+                .iter()
+                .map(|&x| diagnostics::surface_elevation(sim, x))
+                .collect();
+            g.row(sim.time_s, &eta).map_err(io_err(&gauge_path))?;
+        }
         if let Some(rrd) = rrd.as_mut() {
             log_frame(rrd, sim, &m, last, case.output.mesh).map_err(|message| RunError::Rrd {
                 path: rrd_path.clone(),

@@ -57,3 +57,28 @@ pub fn read_column(path: &Path, name: &str) -> std::io::Result<Vec<f64>> {
         .filter_map(|l| l.split(',').nth(k).and_then(|v| v.parse().ok()))
         .collect())
 }
+
+/// `gauges.csv`: `t_s`, then one column per surface-elevation gauge, `eta_<x in m, 3 decimals>`
+/// (m above the still-water level; empty when the gauge is dry).
+pub struct GaugeWriter {
+    file: std::io::BufWriter<std::fs::File>,
+}
+
+impl GaugeWriter {
+    pub fn create(path: &Path, gauges_x_m: &[f64]) -> std::io::Result<Self> {
+        let mut file = std::io::BufWriter::new(std::fs::File::create(path)?);
+        let columns: Vec<String> = gauges_x_m.iter().map(|x| format!("eta_{x:.3}")).collect();
+        writeln!(file, "t_s,{}", columns.join(","))?;
+        file.flush()?;
+        Ok(Self { file })
+    }
+
+    pub fn row(&mut self, t_s: f64, eta_m: &[Option<f64>]) -> std::io::Result<()> {
+        let cells: Vec<String> = eta_m
+            .iter()
+            .map(|e| e.map_or(String::new(), |v| format!("{v:.6}")))
+            .collect();
+        writeln!(self.file, "{t_s:.6},{}", cells.join(","))?;
+        self.file.flush()
+    }
+}
