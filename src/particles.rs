@@ -24,6 +24,9 @@ pub struct Particles {
     /// Projected pressure gradient π ≈ −∇p of the FIC stabilisation, Pa/m.
     pub pressure_gradient_projection: Vec<Vector2<f64>>,
     pub kind: Vec<NodeKind>,
+    /// Unit tangent of a slip wall node (its velocity is kept along it); zero for fluid
+    /// particles, no-slip walls and corners, whose velocity is not free along any direction.
+    pub wall_tangent: Vec<Vector2<f64>>,
 }
 
 impl Particles {
@@ -38,6 +41,7 @@ impl Particles {
             pressure: vec![0.0; n],
             pressure_gradient_projection: vec![Vector2::zeros(); n],
             kind,
+            wall_tangent: vec![Vector2::zeros(); n],
         }
     }
 
@@ -67,6 +71,7 @@ impl Particles {
                 self.pressure[k] = self.pressure[i];
                 self.pressure_gradient_projection[k] = self.pressure_gradient_projection[i];
                 self.kind[k] = self.kind[i];
+                self.wall_tangent[k] = self.wall_tangent[i];
                 k += 1;
             }
         }
@@ -75,5 +80,35 @@ impl Particles {
         self.pressure.truncate(k);
         self.pressure_gradient_projection.truncate(k);
         self.kind.truncate(k);
+        self.wall_tangent.truncate(k);
+    }
+
+    /// Appends one fluid particle.
+    pub fn push_fluid(
+        &mut self,
+        position: Vector2<f64>,
+        velocity: Vector2<f64>,
+        pressure: f64,
+        projection: Vector2<f64>,
+    ) {
+        self.position.push(position);
+        self.velocity.push(velocity);
+        self.pressure.push(pressure);
+        self.pressure_gradient_projection.push(projection);
+        self.kind.push(NodeKind::Fluid);
+        self.wall_tangent.push(Vector2::zeros());
+    }
+
+    /// The velocity a node may have: all of `u` for a fluid particle, its component along the
+    /// wall for a slip wall node, nothing for a fixed wall node.
+    #[inline]
+    pub fn admissible_velocity(&self, i: usize, u: Vector2<f64>) -> Vector2<f64> {
+        match self.kind[i] {
+            NodeKind::Fluid => u,
+            NodeKind::Wall => {
+                let t = self.wall_tangent[i];
+                u.dot(&t) * t
+            }
+        }
     }
 }

@@ -1,7 +1,7 @@
 //! The simulation: particles, flume, solver, clock and Δt policy. It never draws and never
 //! writes; observers read it between steps.
 
-use crate::case::{Case, DtPolicy};
+use crate::case::{Case, DtPolicy, WallCondition};
 use crate::geometry::{self, Flume};
 use crate::mesh::MeshError;
 use crate::particles::Particles;
@@ -23,9 +23,15 @@ impl Simulation {
     pub fn new(case: &Case) -> Result<Simulation, MeshError> {
         let flume = Flume::from_case(case);
         let h = case.particles.spacing_m;
-        let walls = flume.wall_nodes(h);
+        let walls = flume.wall_nodes_with_tangents(h);
         let fluid = geometry::seed_fluid(case, &flume);
-        let mut particles = Particles::new(&walls, &fluid);
+        let positions: Vec<_> = walls.iter().map(|(p, _)| *p).collect();
+        let mut particles = Particles::new(&positions, &fluid);
+        if case.flume.walls == WallCondition::Slip {
+            for (i, (_, tangent)) in walls.iter().enumerate() {
+                particles.wall_tangent[i] = *tangent;
+            }
+        }
         let rho_g = case.fluid.density_kg_m3 * case.fluid.gravity_m_s2;
         for i in 0..particles.len() {
             let x = particles.position[i];

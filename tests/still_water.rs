@@ -8,7 +8,16 @@ use surflab::simulation::Simulation;
 
 #[test]
 fn still_water_stays_still_hydrostatic_and_conserves_volume() {
-    let case = common::case("still_water.toml", &[]);
+    check("no-slip walls", &[]);
+}
+
+#[test]
+fn still_water_with_slip_walls() {
+    check("slip walls", &["flume.walls=slip"]);
+}
+
+fn check(label: &str, overrides: &[&str]) {
+    let case = common::case("still_water.toml", overrides);
     let depth = case.water[0].depth_m;
     let g = case.fluid.gravity_m_s2;
     let mut sim = Simulation::new(&case).unwrap();
@@ -24,7 +33,7 @@ fn still_water_stays_still_hydrostatic_and_conserves_volume() {
     let bound = 0.005 * (g * depth).sqrt();
     let (p_err, used) = diagnostics::hydrostatic_error(&sim, 0.5 * depth, (0.25, 0.75));
     println!(
-        "still water: {} steps over {} s; max speed {:.3e} m/s (bound {:.3e} = 0.5 % of sqrt(g d)); \
+        "still water, {label}: {} steps over {} s; max speed {:.3e} m/s (bound {:.3e} = 0.5 % of sqrt(g d)); \
          mid-depth pressure error {:.3} % over {used} particles; volume drift max {:.4} %",
         sim.steps,
         sim.time_s,

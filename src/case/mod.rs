@@ -109,6 +109,8 @@ pub enum WallCondition {
     /// u = 0 at wall nodes.
     #[default]
     NoSlip,
+    /// Only the velocity across the wall is zero: the water slides along it (corners stay fixed).
+    Slip,
 }
 
 /// A region filled with water at the start: between `x_start_m` and `x_end_m`, from the bed up to

@@ -89,17 +89,38 @@ impl Flume {
 
     /// Wall nodes along the whole outline at about `h` spacing, corners included once.
     pub fn wall_nodes(&self, h: f64) -> Vec<Vector2<f64>> {
-        let mut nodes = vec![self.outline[0]];
+        self.wall_nodes_with_tangents(h)
+            .into_iter()
+            .map(|(p, _)| p)
+            .collect()
+    }
+
+    /// Wall nodes with the unit tangent of the segment they stand on; zero at the ends of the
+    /// outline and at corners, where two segments meet at an angle (a node there cannot slide).
+    pub fn wall_nodes_with_tangents(&self, h: f64) -> Vec<(Vector2<f64>, Vector2<f64>)> {
+        let mut nodes = vec![(self.outline[0], Vector2::zeros())];
         for w in self.outline.windows(2) {
             let len = (w[1] - w[0]).norm();
             if len == 0.0 {
                 continue;
             }
+            let tangent = (w[1] - w[0]) / len;
             let n = (len / h).round().max(1.0) as usize;
+            // The segment's start node is the previous segment's end: keep its tangent only if
+            // both segments are in line.
+            if let Some(last) = nodes.last_mut()
+                && last.1 != Vector2::zeros()
+                && (last.1 - tangent).norm() > 1e-9
+            {
+                last.1 = Vector2::zeros();
+            }
             for k in 1..=n {
-                nodes.push(w[0] + (w[1] - w[0]) * (k as f64 / n as f64));
+                nodes.push((w[0] + (w[1] - w[0]) * (k as f64 / n as f64), tangent));
             }
         }
+        // The two ends of the outline (the wall tops) and every corner are fixed.
+        let last = nodes.len() - 1;
+        nodes[last].1 = Vector2::zeros();
         nodes
     }
 
@@ -235,6 +256,25 @@ mod tests {
         assert!(fluid.iter().all(|p| f.distance_to_solid(*p) >= 0.049));
         let walls = f.wall_nodes(0.05);
         assert_eq!(walls.len(), 16 + 20 + 16 + 1);
+    }
+
+    #[test]
+    fn wall_tangents_follow_the_segments_and_corners_are_fixed() {
+        let f = Flume::from_case(&tank());
+        let nodes = f.wall_nodes_with_tangents(0.05);
+        for (p, t) in &nodes {
+            let corner = (p.x == 0.0 || p.x == 1.0) && (p.y == 0.0 || p.y == 0.8);
+            if corner {
+                assert_eq!(*t, Vector2::zeros(), "{p:?}");
+            } else if p.y == 0.0 {
+                assert_eq!(*t, Vector2::new(1.0, 0.0), "{p:?}");
+            } else {
+                assert!(
+                    (t.x).abs() < 1e-12 && (t.y.abs() - 1.0).abs() < 1e-12,
+                    "{p:?} {t:?}"
+                );
+            }
+        }
     }
 
     #[test]

@@ -309,11 +309,12 @@ mod tests {
     fn a_far_particle_is_isolated() {
         let h = 0.1;
         let mut p = square_block(5, h);
-        p.position.push(Vector2::new(0.25, 2.0));
-        p.velocity.push(Vector2::zeros());
-        p.pressure.push(0.0);
-        p.pressure_gradient_projection.push(Vector2::zeros());
-        p.kind.push(NodeKind::Fluid);
+        p.push_fluid(
+            Vector2::new(0.25, 2.0),
+            Vector2::zeros(),
+            0.0,
+            Vector2::zeros(),
+        );
         let tri = triangulate(&p, &mut Vec::new()).unwrap();
         let mut mesh = Mesh::default();
         alpha_shape(&tri, &p, 1.3, 1.0, h, &mut mesh);

@@ -37,8 +37,9 @@ impl Solver {
         self.u_new.clear();
         self.u_new.extend_from_slice(&self.u_tilde);
         for i in 0..n {
-            if particles.is_fluid(i) && self.mass[i] > 0.0 {
-                self.u_new[i] += dt / self.mass[i] * impulse[i];
+            if self.mass[i] > 0.0 {
+                let u = self.u_new[i] + dt / self.mass[i] * impulse[i];
+                self.u_new[i] = particles.admissible_velocity(i, u);
             }
             if self.tau_mass[i] > 0.0 {
                 self.pi_new[i] /= self.tau_mass[i];

@@ -40,6 +40,8 @@ impl Solver {
             particles.pressure[i] = self.p_new[i];
             particles.pressure_gradient_projection[i] = self.pi_new[i];
             if !particles.is_fluid(i) {
+                // Walls stay put; a slip wall keeps its velocity along the wall.
+                particles.velocity[i] = self.u_new[i];
                 continue;
             }
             let mut u = self.u_new[i];

@@ -104,11 +104,7 @@ impl Solver {
             self.mesh.remove_nodes(&drop);
         }
         for node in &added {
-            particles.position.push(node.position);
-            particles.velocity.push(node.velocity);
-            particles.pressure.push(node.pressure);
-            particles.pressure_gradient_projection.push(node.projection);
-            particles.kind.push(NodeKind::Fluid);
+            particles.push_fluid(node.position, node.velocity, node.pressure, node.projection);
         }
         self.mesh.add_interior_nodes(added.len());
         NodeChanges {

@@ -5,8 +5,9 @@
 //!
 //! Per element, K u contributes 2μ_e A S(u) b_i to node i (symmetric-gradient form) and Dᵀp
 //! contributes A p̄ b_i. With θ = 0 this is explicit per node; with θ > 0 it is solved by
-//! matrix-free Jacobi-CG. Wall nodes keep their Dirichlet velocity (0); isolated particles fly
-//! ballistically, ũ = uⁿ + Δt g.
+//! matrix-free Jacobi-CG. No-slip wall nodes keep their Dirichlet velocity (0); slip wall nodes
+//! keep the component of ũ along the wall (they do not move; their velocity lets the water next
+//! to them slide); isolated particles fly ballistically, ũ = uⁿ + Δt g.
 
 use super::{Solver, cg};
 use crate::fem;
@@ -36,14 +37,14 @@ impl Solver {
         self.u_tilde.clear();
         self.u_tilde.resize(n, Vector2::zeros());
         for i in 0..n {
-            if !particles.is_fluid(i) {
-                continue; // Dirichlet: walls at rest.
-            }
-            self.u_tilde[i] = if self.mass[i] > 0.0 {
+            let u = if self.mass[i] > 0.0 {
                 x_u[i] + dt * (force[i] / self.mass[i] + p.gravity_m_s2)
-            } else {
+            } else if particles.is_fluid(i) {
                 x_u[i] + dt * p.gravity_m_s2
+            } else {
+                Vector2::zeros()
             };
+            self.u_tilde[i] = particles.admissible_velocity(i, u);
         }
         if p.theta > 0.0 {
             self.implicit_viscous_correction(particles, dt);
