@@ -87,15 +87,8 @@ impl Flume {
             .fold(f64::INFINITY, f64::min)
     }
 
-    /// Wall nodes along the whole outline at about `h` spacing, corners included once.
-    pub fn wall_nodes(&self, h: f64) -> Vec<Vector2<f64>> {
-        self.wall_nodes_with_tangents(h)
-            .into_iter()
-            .map(|(p, _)| p)
-            .collect()
-    }
-
-    /// Wall nodes with the unit tangent of the segment they stand on; zero at the ends of the
+    /// Wall nodes along the whole outline at about `h` spacing, corners included once, each
+    /// with the unit tangent of the segment it stands on; the tangent is zero at the ends of the
     /// outline and at corners, where two segments meet at an angle (a node there cannot slide).
     pub fn wall_nodes_with_tangents(&self, h: f64) -> Vec<(Vector2<f64>, Vector2<f64>)> {
         let mut nodes = vec![(self.outline[0], Vector2::zeros())];
@@ -254,7 +247,7 @@ mod tests {
         // 21 × 11 lattice minus the bottom row and the two wall columns.
         assert_eq!(fluid.len(), 19 * 10);
         assert!(fluid.iter().all(|p| f.distance_to_solid(*p) >= 0.049));
-        let walls = f.wall_nodes(0.05);
+        let walls = f.wall_nodes_with_tangents(0.05);
         assert_eq!(walls.len(), 16 + 20 + 16 + 1);
     }
 

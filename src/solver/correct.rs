@@ -1,7 +1,8 @@
 //! Stage `correct`: the end-of-step velocity (thesis eq. 2.8, method.md §1 step 3) and the
 //! pressure-gradient projection of the FIC stabilisation (step 4):
 //!
-//! uⁿ⁺¹_i = ũ_i + (Δt/m_i) Σ_e A_e (p̄ⁿ⁺¹ − γ p̄ⁿ)_e b_i   (fluid nodes in the mesh),
+//! uⁿ⁺¹_i = ũ_i + (Δt/m_i) Σ_e A_e (p̄ⁿ⁺¹ − γ p̄ⁿ)_e b_i   (nodes in the mesh; a slip wall node
+//! keeps only the part along its wall, a no-slip one none),
 //! π_i = −Σ_e τ_e (A_e/3) ∇pⁿ⁺¹_e / Σ_e τ_e (A_e/3).
 //!
 //! Nothing is written to the particles here: the `move` stage commits, so a step whose Δt must

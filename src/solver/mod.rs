@@ -197,7 +197,7 @@ pub struct Solver {
     p_new: Vec<f64>,
     pi_new: Vec<Vector2<f64>>,
     dirichlet: Vec<bool>,
-    /// Area of the last step's mesh after its move (NaN before the first step).
+    /// Area of the last step's mesh after its move (`None` before the first step).
     moved_area: Option<f64>,
     pressure: PressureSystem,
     /// The symbolic Cholesky analysis of this step, running on a second thread.
