@@ -2,7 +2,8 @@
 //!
 //! Layers, each knowing only those below it: `case` (what to run) → `geometry`, `particles`
 //! (the state) → `mesh` (Delaunay + α-shape) → `fem` (P1 kernels) → `solver` (the fractional
-//! step) → `simulation` (clock, Δt) → `diagnostics` (observers that read) → `output` (observers
+//! step) → `wavemaker` (the paddle as a moving wall; its theory is in `waves`) → `simulation`
+//! (clock, Δt) → `diagnostics` (observers that read) → `output` (observers
 //! that write: .rrd, CSV, JSON).
 
 // The numerics walk several parallel arrays (struct of arrays) by node index; an index loop
@@ -13,11 +14,14 @@ pub mod case;
 pub mod diagnostics;
 pub mod fem;
 pub mod geometry;
+#[cfg(feature = "lab")]
+pub mod lab;
 pub mod mesh;
 pub mod output;
 pub mod particles;
 pub mod simulation;
 pub mod solver;
+pub mod wavemaker;
 pub mod waves;
 
 pub use case::Case;

@@ -1,4 +1,4 @@
-//! `surflab`: run a case headless, or benchmark the time step.
+//! `surflab`: open the lab window, run a case headless, or benchmark the time step.
 
 use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand};
@@ -44,6 +44,22 @@ enum Command {
         #[arg(long)]
         quiet: bool,
     },
+    /// Open the lab: the Rerun viewer with the control panel, the solver in a worker thread.
+    #[cfg(feature = "lab")]
+    Lab {
+        /// The case to open (default cases/teaching_beach.toml); the presets are the cases in
+        /// its folder.
+        case: Option<PathBuf>,
+        /// Save a PNG of the window and exit, once the solver has run --after seconds.
+        #[arg(long, value_name = "PATH")]
+        screenshot: Option<PathBuf>,
+        /// Simulated seconds to run before the screenshot.
+        #[arg(long, value_name = "SECONDS", default_value_t = 1.0)]
+        after: f64,
+        /// Where the panel's "record" checkbox writes the .rrd.
+        #[arg(long, value_name = "PATH", default_value = "runs/lab.rrd")]
+        record_to: PathBuf,
+    },
     /// Time the step: ms per step by stage, particles and particle-steps per second.
     Bench {
         case: PathBuf,
@@ -75,19 +91,67 @@ fn main() {
             json,
             set,
         }) => cmd_bench(&case, steps, json, &set),
-        None => cmd_run(
-            Path::new("cases/dam_break.toml"),
-            None,
-            None,
-            true,
-            &[],
-            true,
-        ),
+        #[cfg(feature = "lab")]
+        Some(Command::Lab {
+            case,
+            screenshot,
+            after,
+            record_to,
+        }) => cmd_lab(case, screenshot, after, record_to),
+        None => default_job(),
     };
     if let Err(e) = result {
         eprintln!("surflab: error: {e:#}");
         std::process::exit(1);
     }
+}
+
+/// No arguments: the lab when there is a display to open it on, else the default case headless.
+fn default_job() -> Result<()> {
+    let display = ["DISPLAY", "WAYLAND_DISPLAY"]
+        .iter()
+        .any(|v| std::env::var_os(v).is_some_and(|s| !s.is_empty()));
+    #[cfg(feature = "lab")]
+    if display {
+        return cmd_lab(None, None, 1.0, PathBuf::from("runs/lab.rrd"));
+    }
+    eprintln!(
+        "surflab: {}; running cases/teaching_beach.toml headless",
+        if display {
+            "built without the lab feature"
+        } else {
+            "no display (DISPLAY/WAYLAND_DISPLAY unset)"
+        }
+    );
+    cmd_run(
+        Path::new("cases/teaching_beach.toml"),
+        None,
+        None,
+        true,
+        &[],
+        true,
+    )
+}
+
+#[cfg(feature = "lab")]
+fn cmd_lab(
+    case: Option<PathBuf>,
+    screenshot: Option<PathBuf>,
+    after: f64,
+    record_to: PathBuf,
+) -> Result<()> {
+    if !(after.is_finite() && after >= 0.0) {
+        bail!("--after must be a non-negative number of seconds, got {after}");
+    }
+    if let Some(dir) = record_to.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    }
+    surflab::lab::run(surflab::lab::LabOptions {
+        case,
+        screenshot,
+        screenshot_after_s: after,
+        record_path: record_to,
+    })
 }
 
 fn load(path: &Path, set: &[String], until: Option<f64>) -> Result<Case> {
@@ -193,7 +257,14 @@ fn cmd_bench(path: &Path, steps: u64, json: bool, set: &[String]) -> Result<()> 
             // What `run` does at each output: the integrals and one frame.
             let t0 = Instant::now();
             let m = surflab::diagnostics::integrals(&sim);
-            log_frame(&mut rrd, &sim, &m, Some(&report.timings), false)
+            let values = surflab::output::run::gauge_values(&sim);
+            let names = surflab::output::timeseries::gauge_columns(
+                &sim.case.output.gauges_x_m,
+                &sim.case.output.probes_m,
+            );
+            let gauges: Vec<(&str, Option<f64>)> =
+                names.iter().map(String::as_str).zip(values).collect();
+            log_frame(&mut rrd, &sim, &m, Some(&report.timings), &gauges, false)
                 .map_err(anyhow::Error::msg)?;
             log_ms.push(t0.elapsed().as_secs_f64() * 1e3);
         }

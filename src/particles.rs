@@ -1,6 +1,7 @@
 //! The state of the particle cloud, as a struct of arrays owned by the caller.
 //!
-//! Wall nodes come first (indices `0..n_wall`) and never move; fluid particles follow.
+//! Wall nodes come first (indices `0..n_wall`) and move only with their wall (a paddle); fluid
+//! particles follow.
 
 use nalgebra::Vector2;
 
@@ -27,6 +28,9 @@ pub struct Particles {
     /// Unit tangent of a slip wall node (its velocity is kept along it); zero for fluid
     /// particles, no-slip walls and corners, whose velocity is not free along any direction.
     pub wall_tangent: Vec<Vector2<f64>>,
+    /// Velocity of the solid a wall node belongs to (the paddle's, zero for fixed walls), m/s:
+    /// the Dirichlet value of a no-slip wall node, and how far it moves per step.
+    pub wall_velocity: Vec<Vector2<f64>>,
 }
 
 impl Particles {
@@ -42,6 +46,7 @@ impl Particles {
             pressure_gradient_projection: vec![Vector2::zeros(); n],
             kind,
             wall_tangent: vec![Vector2::zeros(); n],
+            wall_velocity: vec![Vector2::zeros(); n],
         }
     }
 
@@ -72,6 +77,7 @@ impl Particles {
                 self.pressure_gradient_projection[k] = self.pressure_gradient_projection[i];
                 self.kind[k] = self.kind[i];
                 self.wall_tangent[k] = self.wall_tangent[i];
+                self.wall_velocity[k] = self.wall_velocity[i];
                 k += 1;
             }
         }
@@ -81,6 +87,7 @@ impl Particles {
         self.pressure_gradient_projection.truncate(k);
         self.kind.truncate(k);
         self.wall_tangent.truncate(k);
+        self.wall_velocity.truncate(k);
     }
 
     /// Appends one fluid particle.
@@ -97,17 +104,18 @@ impl Particles {
         self.pressure_gradient_projection.push(projection);
         self.kind.push(NodeKind::Fluid);
         self.wall_tangent.push(Vector2::zeros());
+        self.wall_velocity.push(Vector2::zeros());
     }
 
-    /// The velocity a node may have: all of `u` for a fluid particle, its component along the
-    /// wall for a slip wall node, nothing for a fixed wall node.
+    /// The velocity a node may have: all of `u` for a fluid particle; for a wall node, the
+    /// velocity of its wall plus, on a slip wall, the part of `u` relative to it along the wall.
     #[inline]
     pub fn admissible_velocity(&self, i: usize, u: Vector2<f64>) -> Vector2<f64> {
         match self.kind[i] {
             NodeKind::Fluid => u,
             NodeKind::Wall => {
-                let t = self.wall_tangent[i];
-                u.dot(&t) * t
+                let (t, w) = (self.wall_tangent[i], self.wall_velocity[i]);
+                w + (u - w).dot(&t) * t
             }
         }
     }

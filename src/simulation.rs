@@ -6,6 +6,17 @@ use crate::geometry::{self, Flume};
 use crate::mesh::MeshError;
 use crate::particles::Particles;
 use crate::solver::{Solver, SolverParams, StepError, StepReport};
+use crate::wavemaker::Wavemaker;
+use crate::waves::WaveError;
+
+/// Why a case could not be set up.
+#[derive(Debug, thiserror::Error)]
+pub enum SetupError {
+    #[error(transparent)]
+    Mesh(#[from] MeshError),
+    #[error("the wavemaker cannot make this wave: {0}")]
+    Wave(#[from] WaveError),
+}
 
 pub struct Simulation {
     pub case: Case,
@@ -16,16 +27,24 @@ pub struct Simulation {
     pub steps: u64,
     /// Water volume (area of the kept mesh) at t = 0, m² per metre of width.
     pub initial_volume_m2: f64,
+    /// The paddle, when the case has a wavemaker.
+    pub wavemaker: Option<Wavemaker>,
 }
 
 impl Simulation {
     /// Seeds the flume from the case, with hydrostatic pressure in every region, and meshes it.
-    pub fn new(case: &Case) -> Result<Simulation, MeshError> {
-        let flume = Flume::from_case(case);
+    pub fn new(case: &Case) -> Result<Simulation, SetupError> {
+        let mut flume = Flume::from_case(case);
         let h = case.particles.spacing_m;
         let walls = flume.wall_nodes_with_tangents(h);
         let fluid = geometry::seed_fluid(case, &flume);
-        let positions: Vec<_> = walls.iter().map(|(p, _)| *p).collect();
+        let mut positions: Vec<_> = walls.iter().map(|(p, _)| *p).collect();
+        let wavemaker = Wavemaker::from_case(case, &flume, positions.len()).transpose()?;
+        if let Some(w) = &wavemaker {
+            positions.extend(w.rest_nodes());
+            flume.paddle_now = Some(w.face(0.0, 1.0));
+            flume.paddle = flume.paddle_now;
+        }
         let mut particles = Particles::new(&positions, &fluid);
         if case.flume.walls == WallCondition::Slip {
             for (i, (_, tangent)) in walls.iter().enumerate() {
@@ -50,9 +69,10 @@ impl Simulation {
         }
         let mut solver = Solver::new(SolverParams::from_case(case));
         // Twice: the second pass applies the contact-line rule with the first pass's surface.
-        solver.remesh(&particles)?;
-        solver.remesh(&particles)?;
+        solver.remesh(&particles, &flume)?;
+        solver.remesh(&particles, &flume)?;
         let initial_volume_m2 = solver.mesh.area(&particles.position);
+        solver.volume_target_m2 = Some(initial_volume_m2);
         Ok(Simulation {
             case: case.clone(),
             flume,
@@ -61,6 +81,7 @@ impl Simulation {
             time_s: 0.0,
             steps: 0,
             initial_volume_m2,
+            wavemaker,
         })
     }
 
@@ -93,10 +114,16 @@ impl Simulation {
     /// One step towards `until_s`.
     pub fn step_towards(&mut self, until_s: f64) -> Result<StepReport, StepError> {
         let dt = self.next_dt(until_s);
+        if let Some(w) = &self.wavemaker {
+            w.prescribe(&mut self.particles, &mut self.flume, self.time_s, dt);
+        }
         let report = self.solver.step(&mut self.particles, &self.flume, dt)?;
         self.time_s += report.dt_s;
         if (until_s - self.time_s).abs() < 1e-12 * until_s.max(1.0) {
             self.time_s = until_s;
+        }
+        if let Some(w) = &self.wavemaker {
+            w.snap(&mut self.particles, self.time_s);
         }
         self.steps += 1;
         Ok(report)

@@ -14,6 +14,10 @@ use std::path::{Path, PathBuf};
 
 pub use overrides::apply_override;
 
+use crate::waves::WaveError;
+use crate::waves::linear::PaddleKind;
+use crate::waves::paddle::PaddleMotion;
+
 /// Everything that can go wrong while reading a case. Each variant names the file and, where
 /// there is one, the field.
 #[derive(Debug, thiserror::Error)]
@@ -67,6 +71,73 @@ pub struct Case {
     pub time: TimeSettings,
     #[serde(default)]
     pub output: OutputSettings,
+    /// A paddle that makes waves at the left end of the flume.
+    #[serde(default)]
+    pub wavemaker: Option<WavemakerSettings>,
+    /// A passive damping layer at the right end, for flumes without a beach.
+    #[serde(default)]
+    pub absorber: Option<Absorber>,
+}
+
+/// How the paddle moves.
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum PaddleType {
+    /// A vertical plate translating along x.
+    Piston,
+    /// A plate hinged on the bed, rotating rigidly about the hinge.
+    Flap,
+}
+
+/// Which theory drives the paddle.
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum WaveTheory {
+    /// Sinusoidal motion with the Biesel transfer function (thesis eqs. 2.32–2.40).
+    Linear,
+    /// Goring-type piston for a first-order cnoidal wave (thesis eqs. 2.41–2.54); piston only.
+    Cnoidal,
+    /// Goring's piston for one solitary wave; piston only, `period_s` unused.
+    Solitary,
+}
+
+/// The wavemaker: a moving wall of the mesh standing at `x_m` at rest.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct WavemakerSettings {
+    pub paddle: PaddleType,
+    pub theory: WaveTheory,
+    /// Target wave height H.
+    pub height_m: f64,
+    /// Wave period T (linear and cnoidal).
+    #[serde(default)]
+    pub period_s: f64,
+    /// Length of the half-cosine start-up ramp, in periods.
+    #[serde(default = "default_ramp_periods")]
+    pub ramp_periods: f64,
+    /// Rest position of the paddle face (for a flap, of its hinge on the bed). The water starts
+    /// in front of it; the flume behind it stays dry. It must leave room for the backward stroke.
+    pub x_m: f64,
+}
+
+fn default_ramp_periods() -> f64 {
+    2.0
+}
+
+/// A damping layer from `flume.length_m − length_m` to the end wall: every step, fluid velocities
+/// there are multiplied by max(0, 1 − Δt·β·f²), f the fraction of the way into the layer
+/// (DualSPHysics' passive damping). It should be at least one wavelength long.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Absorber {
+    pub length_m: f64,
+    /// β, 1/s.
+    #[serde(default = "default_absorber_strength")]
+    pub strength_per_s: f64,
+}
+
+fn default_absorber_strength() -> f64 {
+    10.0
 }
 
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
@@ -99,8 +170,43 @@ pub struct Flume {
     /// Empty means a flat floor at y = 0.
     #[serde(default)]
     pub bed_m: Vec<[f64; 2]>,
+    /// A plane beach instead of `bed_m`: flat floor up to `toe_x_m`, then rising at `slope`.
+    #[serde(default)]
+    pub beach: Option<Beach>,
     #[serde(default)]
     pub walls: WallCondition,
+}
+
+/// A plane beach: the floor is flat (y = 0) up to the toe, then rises at `slope` (tan β) until
+/// 90 % of the wall height, and is flat again up to the end wall.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Beach {
+    pub toe_x_m: f64,
+    /// tan β, rise over run.
+    pub slope: f64,
+}
+
+impl Flume {
+    /// The bed polyline `[x, y]` from x = 0 to the end: `bed_m`, the beach, or a flat floor.
+    pub fn bed_points(&self) -> Vec<[f64; 2]> {
+        if let Some(b) = &self.beach {
+            let top = 0.9 * self.height_m;
+            let rise = b.slope * (self.length_m - b.toe_x_m);
+            let mut bed = vec![[0.0, 0.0], [b.toe_x_m, 0.0]];
+            if rise <= top {
+                bed.push([self.length_m, rise]);
+            } else {
+                bed.push([b.toe_x_m + top / b.slope, top]);
+                bed.push([self.length_m, top]);
+            }
+            bed
+        } else if self.bed_m.is_empty() {
+            vec![[0.0, 0.0], [self.length_m, 0.0]]
+        } else {
+            self.bed_m.clone()
+        }
+    }
 }
 
 #[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq, Default)]
@@ -216,6 +322,9 @@ pub struct SolverSettings {
     /// An interior particle closer than this (in units of h) to a neighbour is removed; 0 turns
     /// removal off.
     pub remove_distance_h: f64,
+    /// Put the water area lost since t = 0 back on the free surface every step (Kratos'
+    /// PFEM-Fluid correction; see `solver/volume.rs`). Off by default: it hides the loss.
+    pub volume_recovery: bool,
 }
 
 impl Default for SolverSettings {
@@ -233,6 +342,7 @@ impl Default for SolverSettings {
             wall_margin_h: 0.4,
             insert_radius_h: 0.9,
             remove_distance_h: 0.35,
+            volume_recovery: false,
         }
     }
 }
@@ -283,6 +393,9 @@ pub struct OutputSettings {
     pub u1_range_m_s: Vec<f64>,
     /// Surface-elevation gauges: x positions, m. Recorded to gauges.csv at every output.
     pub gauges_x_m: Vec<f64>,
+    /// Velocity probes: `[x, y]` positions, m (y above the flume floor). Recorded to gauges.csv
+    /// as `u_<x>_<y>` and `w_<x>_<y>`; empty when the probe is dry.
+    pub probes_m: Vec<[f64; 2]>,
 }
 
 impl Default for OutputSettings {
@@ -292,6 +405,7 @@ impl Default for OutputSettings {
             mesh: false,
             u1_range_m_s: Vec::new(),
             gauges_x_m: Vec::new(),
+            probes_m: Vec::new(),
         }
     }
 }
@@ -367,6 +481,49 @@ impl Case {
         self.water.iter().map(|w| w.depth_m).fold(0.0, f64::max)
     }
 
+    /// Bed height under `x_m`, linear between the `flume.bed_m` points (0 for a flat floor).
+    pub fn bed_y_at(&self, x_m: f64) -> f64 {
+        let bed = self.flume.bed_points();
+        if x_m <= bed[0][0] {
+            return bed[0][1];
+        }
+        for w in bed.windows(2) {
+            if x_m <= w[1][0] {
+                let s = (x_m - w[0][0]) / (w[1][0] - w[0][0]);
+                return w[0][1] + s * (w[1][1] - w[0][1]);
+            }
+        }
+        bed[bed.len() - 1][1]
+    }
+
+    /// Still-water depth in front of the paddle (level above the bed at its rest position), m.
+    pub fn paddle_depth_m(&self) -> Option<f64> {
+        let w = self.wavemaker.as_ref()?;
+        let x = w.x_m + self.particles.spacing_m;
+        Some(self.still_level_at(x)? - self.bed_y_at(w.x_m))
+    }
+
+    /// The paddle motion the case asks for, designed from its theory (`None` without a
+    /// wavemaker). Errors say why the wave cannot be made.
+    pub fn paddle_motion(&self) -> Option<Result<PaddleMotion, WaveError>> {
+        let w = self.wavemaker.as_ref()?;
+        let depth = self.paddle_depth_m().unwrap_or(0.0);
+        let g = self.fluid.gravity_m_s2;
+        Some(match w.theory {
+            WaveTheory::Linear => {
+                let kind = match w.paddle {
+                    PaddleType::Piston => PaddleKind::Piston,
+                    PaddleType::Flap => PaddleKind::Flap,
+                };
+                PaddleMotion::linear(kind, w.height_m, w.period_s, depth, g, w.ramp_periods)
+            }
+            WaveTheory::Cnoidal => {
+                PaddleMotion::cnoidal(w.height_m, w.period_s, depth, g, w.ramp_periods)
+            }
+            WaveTheory::Solitary => PaddleMotion::solitary(w.height_m, depth, g),
+        })
+    }
+
     /// Colour range for u1.
     pub fn u1_range(&self) -> (f64, f64) {
         match self.output.u1_range_m_s.as_slice() {
@@ -412,6 +569,29 @@ impl Case {
                     self.flume.length_m, self.flume.height_m
                 ),
             );
+        }
+        if let Some(b) = &self.flume.beach {
+            if !self.flume.bed_m.is_empty() {
+                return err(
+                    "flume.beach",
+                    "give either flume.bed_m or flume.beach, not both".into(),
+                );
+            }
+            if !(b.toe_x_m.is_finite() && b.toe_x_m > 0.0 && b.toe_x_m < self.flume.length_m) {
+                return err(
+                    "flume.beach.toe_x_m",
+                    format!(
+                        "must lie inside the flume (0, {}) m, got {}",
+                        self.flume.length_m, b.toe_x_m
+                    ),
+                );
+            }
+            if !(b.slope.is_finite() && b.slope > 0.0 && b.slope <= 2.0) {
+                return err(
+                    "flume.beach.slope",
+                    format!("must lie in (0, 2] (tan β), got {}", b.slope),
+                );
+            }
         }
         let bed = &self.flume.bed_m;
         if !bed.is_empty() {
@@ -585,6 +765,31 @@ impl Case {
                 ),
             );
         }
+        if let Some(p) = self.output.probes_m.iter().find(|p| {
+            !(p.iter().all(|v| v.is_finite())
+                && (0.0..=self.flume.length_m).contains(&p[0])
+                && (0.0..=self.flume.height_m).contains(&p[1]))
+        }) {
+            return err(
+                "output.probes_m",
+                format!("probe at {p:?} m lies outside the flume"),
+            );
+        }
+        if let Some(a) = &self.absorber {
+            if !(a.length_m.is_finite() && a.length_m > 0.0 && a.length_m < self.flume.length_m) {
+                return err(
+                    "absorber.length_m",
+                    format!(
+                        "must lie in (0, flume.length_m = {}) m, got {}",
+                        self.flume.length_m, a.length_m
+                    ),
+                );
+            }
+            positive("absorber.strength_per_s", a.strength_per_s)?;
+        }
+        if let Some(w) = &self.wavemaker {
+            self.validate_wavemaker(w)?;
+        }
         match self.output.u1_range_m_s.as_slice() {
             [] => {}
             [lo, hi] if lo.is_finite() && hi.is_finite() && lo < hi => {}
@@ -594,6 +799,70 @@ impl Case {
                     "must be [min, max] with min < max".into(),
                 );
             }
+        }
+        Ok(())
+    }
+}
+
+impl Case {
+    fn validate_wavemaker(&self, w: &WavemakerSettings) -> Result<(), (String, String)> {
+        let err = |field: &str, message: String| Err((field.to_owned(), message));
+        let h = self.particles.spacing_m;
+        if !(w.x_m.is_finite() && w.x_m > 0.0 && w.x_m < 0.5 * self.flume.length_m) {
+            return err(
+                "wavemaker.x_m",
+                format!(
+                    "the paddle must stand in the first half of the flume, got x = {} m",
+                    w.x_m
+                ),
+            );
+        }
+        if w.theory != WaveTheory::Linear && w.paddle != PaddleType::Piston {
+            return err(
+                "wavemaker.paddle",
+                format!("{:?} theory drives a piston, not a flap", w.theory).to_lowercase(),
+            );
+        }
+        if w.theory != WaveTheory::Solitary && !(w.period_s.is_finite() && w.period_s > 0.0) {
+            return err(
+                "wavemaker.period_s",
+                format!("must be a positive number, got {}", w.period_s),
+            );
+        }
+        let Some(depth) = self.paddle_depth_m().filter(|d| *d > 2.0 * h) else {
+            return err(
+                "wavemaker.x_m",
+                format!(
+                    "no water (deeper than 2 h) stands just in front of the paddle at x = {} m",
+                    w.x_m
+                ),
+            );
+        };
+        let motion = match self.paddle_motion() {
+            Some(Ok(m)) => m,
+            Some(Err(e)) => {
+                return err(
+                    "wavemaker.height_m",
+                    format!("the wave cannot be made: {e}"),
+                );
+            }
+            None => unreachable!("a wavemaker is present"),
+        };
+        // The top of a flap moves (top height / depth) times as far as its still-water point.
+        let reach = match w.paddle {
+            PaddleType::Piston => 1.0,
+            PaddleType::Flap => (self.flume.height_m - self.bed_y_at(w.x_m)) / depth,
+        };
+        let (back, _) = motion.excursion_m();
+        if w.x_m + reach * back < 2.0 * h {
+            return err(
+                "wavemaker.x_m",
+                format!(
+                    "the paddle swings back {:.3} m and would hit the left wall: put it at x ≥ {:.3} m",
+                    -reach * back,
+                    -reach * back + 2.0 * h
+                ),
+            );
         }
         Ok(())
     }

@@ -114,9 +114,17 @@ pub fn hydrostatic_error(sim: &Simulation, y_m: f64, x_range_m: (f64, f64)) -> (
 /// (so the free surface, overturned parts included; the highest one is taken). `None` when no
 /// water stands at x_m.
 pub fn surface_elevation(sim: &Simulation, x_m: f64) -> Option<f64> {
+    surface_crossings(sim, x_m).first().copied()
+}
+
+/// Every crossing of the vertical line x = `x_m` with the free surface (boundary edges of the
+/// kept mesh that are not wall–wall edges), m above the still-water level there, highest first.
+/// More than one crossing means an overturned face, a jet or a drop above the gauge.
+pub fn surface_crossings(sim: &Simulation, x_m: f64) -> Vec<f64> {
     let p = &sim.particles;
     let level = sim.case.still_level_at(x_m).unwrap_or(0.0);
-    sim.solver
+    let mut out: Vec<f64> = sim
+        .solver
         .mesh
         .boundary_edges
         .iter()
@@ -127,8 +135,115 @@ pub fn surface_elevation(sim: &Simulation, x_m: f64) -> Option<f64> {
             if x_m < lo.x || x_m > hi.x || hi.x == lo.x {
                 return None;
             }
-            Some(lo.y + (hi.y - lo.y) * (x_m - lo.x) / (hi.x - lo.x))
+            Some(lo.y + (hi.y - lo.y) * (x_m - lo.x) / (hi.x - lo.x) - level)
         })
-        .reduce(f64::max)
-        .map(|y| y - level)
+        .collect();
+    out.sort_by(|a, b| b.total_cmp(a));
+    out.dedup_by(|a, b| (*a - *b).abs() < 1e-12);
+    out
+}
+
+/// Velocity at `point` (x, y in m), interpolated linearly in the kept triangle that contains it;
+/// `None` when the point is dry (outside every kept triangle).
+pub fn velocity_at(sim: &Simulation, point: Vector2<f64>) -> Option<Vector2<f64>> {
+    let p = &sim.particles;
+    sim.solver.mesh.triangles.iter().find_map(|t| {
+        let [a, b, c] = t.map(|i| p.position[i as usize]);
+        let det = (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
+        if det == 0.0 {
+            return None;
+        }
+        let l1 = ((point.x - a.x) * (c.y - a.y) - (c.x - a.x) * (point.y - a.y)) / det;
+        let l2 = ((b.x - a.x) * (point.y - a.y) - (point.x - a.x) * (b.y - a.y)) / det;
+        let l0 = 1.0 - l1 - l2;
+        let eps = -1e-12;
+        (l0 >= eps && l1 >= eps && l2 >= eps).then(|| {
+            let [ua, ub, uc] = t.map(|i| p.velocity[i as usize]);
+            l0 * ua + l1 * ub + l2 * uc
+        })
+    })
+}
+
+/// Zero-up-crossing statistics of a surface-elevation record.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct WaveStats {
+    /// Mean crest-to-trough height of the waves used, m.
+    pub mean_height_m: f64,
+    /// Mean zero-up-crossing period, s.
+    pub mean_period_s: f64,
+    /// Mean water level over the waves used, m above still water.
+    pub mean_level_m: f64,
+    /// Number of whole waves used.
+    pub waves: usize,
+}
+
+/// Statistics over the last `last_waves` whole waves of the record (`t_s`, `eta_m`; dry
+/// samples are `None` and skipped), counted between up-crossings of the record's mean level
+/// over `t ≥ from_s`. `None` when there is not one whole wave.
+pub fn wave_stats(
+    t_s: &[f64],
+    eta_m: &[Option<f64>],
+    from_s: f64,
+    last_waves: usize,
+) -> Option<WaveStats> {
+    let wet: Vec<(f64, f64)> = t_s
+        .iter()
+        .zip(eta_m)
+        .filter(|(t, _)| **t >= from_s)
+        .filter_map(|(t, e)| e.map(|e| (*t, e)))
+        .collect();
+    if wet.len() < 3 {
+        return None;
+    }
+    let mean = wet.iter().map(|w| w.1).sum::<f64>() / wet.len() as f64;
+    // Up-crossing times, interpolated between samples.
+    let ups: Vec<(usize, f64)> = wet
+        .windows(2)
+        .enumerate()
+        .filter(|(_, w)| w[0].1 < mean && w[1].1 >= mean)
+        .map(|(k, w)| {
+            let s = (mean - w[0].1) / (w[1].1 - w[0].1);
+            (k + 1, w[0].0 + s * (w[1].0 - w[0].0))
+        })
+        .collect();
+    if ups.len() < 2 {
+        return None;
+    }
+    let first = ups.len().saturating_sub(last_waves + 1);
+    let used = &ups[first..];
+    let (mut h, mut level, mut n) = (0.0, 0.0, 0usize);
+    for w in used.windows(2) {
+        let seg = &wet[w[0].0..w[1].0];
+        let hi = seg.iter().map(|s| s.1).fold(f64::NEG_INFINITY, f64::max);
+        let lo = seg.iter().map(|s| s.1).fold(f64::INFINITY, f64::min);
+        h += hi - lo;
+        level += seg.iter().map(|s| s.1).sum::<f64>() / seg.len() as f64;
+        n += 1;
+    }
+    Some(WaveStats {
+        mean_height_m: h / n as f64,
+        mean_period_s: (used[used.len() - 1].1 - used[0].1) / n as f64,
+        mean_level_m: level / n as f64,
+        waves: n,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn wave_stats_of_a_sine() {
+        let t: Vec<f64> = (0..4000).map(|i| i as f64 * 0.005).collect();
+        let eta: Vec<Option<f64>> = t
+            .iter()
+            .map(|t| Some(0.01 + 0.03 * (std::f64::consts::TAU * t / 0.91).sin()))
+            .collect();
+        let s = wave_stats(&t, &eta, 2.0, 5).unwrap();
+        println!("{s:?}");
+        assert_eq!(s.waves, 5);
+        assert!((s.mean_height_m - 0.06).abs() < 1e-4);
+        assert!((s.mean_period_s - 0.91).abs() < 1e-4);
+        assert!((s.mean_level_m - 0.01).abs() < 1e-3);
+    }
 }

@@ -26,16 +26,51 @@ pub struct Flume {
     pub segments: Vec<Segment>,
     /// Bed polyline from x = 0 to x = length (at least two points).
     pub bed: Vec<Vector2<f64>>,
+    /// The paddle face at the end of the current step, when there is a wavemaker (for the guard).
+    pub paddle: Option<PaddleFace>,
+    /// The paddle face at the start of the current step (for the mesh: nothing behind it is water).
+    pub paddle_now: Option<PaddleFace>,
+}
+
+/// The straight face of a paddle, from its foot to its top, with the velocities of both ends
+/// (a rigid piston or flap: the velocity varies linearly along the face). The water is on the
+/// side of `normal`; the face extends without limit up and down for the guard.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PaddleFace {
+    pub foot: Vector2<f64>,
+    pub top: Vector2<f64>,
+    pub foot_velocity: Vector2<f64>,
+    pub top_velocity: Vector2<f64>,
+}
+
+impl PaddleFace {
+    /// Unit normal into the water (towards +x for an upright face).
+    pub fn normal(&self) -> Vector2<f64> {
+        let d = (self.top - self.foot).normalize();
+        Vector2::new(d.y, -d.x)
+    }
+
+    /// Signed distance of `p` from the face line, positive on the water side.
+    pub fn distance(&self, p: Vector2<f64>) -> f64 {
+        (p - self.foot).dot(&self.normal())
+    }
+
+    /// Velocity of the face at the height of `p`.
+    pub fn velocity_at(&self, p: Vector2<f64>) -> Vector2<f64> {
+        let d = self.top - self.foot;
+        let s = (p - self.foot).dot(&d) / d.norm_squared();
+        self.foot_velocity + s * (self.top_velocity - self.foot_velocity)
+    }
 }
 
 impl Flume {
     pub fn from_case(case: &Case) -> Flume {
         let f = &case.flume;
-        let bed: Vec<Vector2<f64>> = if f.bed_m.is_empty() {
-            vec![Vector2::new(0.0, 0.0), Vector2::new(f.length_m, 0.0)]
-        } else {
-            f.bed_m.iter().map(|p| Vector2::new(p[0], p[1])).collect()
-        };
+        let bed: Vec<Vector2<f64>> = f
+            .bed_points()
+            .iter()
+            .map(|p| Vector2::new(p[0], p[1]))
+            .collect();
         let mut outline = vec![Vector2::new(0.0, f.height_m)];
         outline.extend(bed.iter().copied());
         outline.push(Vector2::new(f.length_m, f.height_m));
@@ -57,6 +92,8 @@ impl Flume {
             outline,
             segments,
             bed,
+            paddle: None,
+            paddle_now: None,
         }
     }
 
@@ -134,6 +171,19 @@ impl Flume {
             v.x = v.x.min(0.0);
             moved = true;
         }
+        if let Some(face) = &self.paddle {
+            let dist = face.distance(*p);
+            if dist < margin {
+                let n = face.normal();
+                *p += (margin - dist) * n;
+                let vn_wall = face.velocity_at(*p).dot(&n);
+                let vn = v.dot(&n);
+                if vn < vn_wall {
+                    *v += (vn_wall - vn) * n;
+                }
+                moved = true;
+            }
+        }
         for s in &self.segments {
             let d = s.b - s.a;
             let t = (*p - s.a).dot(&d) / d.norm_squared();
@@ -157,9 +207,11 @@ impl Flume {
 /// Fluid particles on a lattice inside the water regions: for each region the spacing is
 /// adjusted so that whole numbers of cells fit its width, and each column is divided evenly up
 /// to the local initial surface (flat, or a standing-wave shape); points closer than h/2 to the
-/// solid (where wall nodes stand) or to an already seeded particle are skipped.
+/// solid (where wall nodes stand), to the paddle or behind it, or to an already seeded particle
+/// are skipped.
 pub fn seed_fluid(case: &Case, flume: &Flume) -> Vec<Vector2<f64>> {
     let h = case.particles.spacing_m;
+    let paddle_x = case.wavemaker.as_ref().map_or(f64::NEG_INFINITY, |w| w.x_m);
     let mut points: Vec<Vector2<f64>> = Vec::new();
     let mut grid = SpatialHash::new(h);
     for w in &case.water {
@@ -173,7 +225,10 @@ pub fn seed_fluid(case: &Case, flume: &Flume) -> Vec<Vector2<f64>> {
             for j in 0..=ny {
                 let y = j as f64 * dy;
                 let p = Vector2::new(x, y);
-                if y < flume.bed_y(x) || flume.distance_to_solid(p) < 0.5 * h {
+                if y < flume.bed_y(x)
+                    || flume.distance_to_solid(p) < 0.5 * h
+                    || x < paddle_x + 0.5 * h
+                {
                     continue;
                 }
                 if grid.any_within(&points, p, 0.5 * h) {

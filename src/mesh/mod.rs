@@ -25,6 +25,7 @@
 //! the sloping front face, and since the front moves on, that wedge would be left behind as
 //! water at every step (a steady volume gain that grows with α).
 
+use crate::geometry::PaddleFace;
 use crate::particles::{NodeKind, Particles};
 use nalgebra::Vector2;
 use spade::{DelaunayTriangulation, HasPosition, Point2, Triangulation};
@@ -90,6 +91,7 @@ pub fn alpha_shape(
     alpha: f64,
     alpha_boundary: f64,
     h: f64,
+    paddle: Option<&PaddleFace>,
     mesh: &mut Mesh,
 ) {
     let n = particles.len();
@@ -115,6 +117,17 @@ pub fn alpha_shape(
                 .iter()
                 .any(|v| v.out_edges().any(|e| !is_wall(e.to().data().id)));
             if !wetted {
+                continue;
+            }
+        }
+        if let Some(face_line) = paddle {
+            // Nothing behind the paddle is water.
+            let centroid = [a, b, c]
+                .iter()
+                .map(|&i| particles.position[i as usize])
+                .sum::<Vector2<f64>>()
+                / 3.0;
+            if face_line.distance(centroid) < 0.0 {
                 continue;
             }
         }
@@ -293,7 +306,7 @@ mod tests {
         let p = square_block(10, h);
         let tri = triangulate(&p, &mut Vec::new()).unwrap();
         let mut mesh = Mesh::default();
-        alpha_shape(&tri, &p, 1.2, 1.0, h, &mut mesh);
+        alpha_shape(&tri, &p, 1.2, 1.0, h, None, &mut mesh);
         assert!((mesh.area(&p.position) - 1.0).abs() < 1e-12);
         // The top row is free surface, its two wall nodes (contact points) included; nothing
         // else is.
@@ -317,7 +330,7 @@ mod tests {
         );
         let tri = triangulate(&p, &mut Vec::new()).unwrap();
         let mut mesh = Mesh::default();
-        alpha_shape(&tri, &p, 1.3, 1.0, h, &mut mesh);
+        alpha_shape(&tri, &p, 1.3, 1.0, h, None, &mut mesh);
         assert!(!mesh.in_mesh[p.len() - 1]);
     }
 }

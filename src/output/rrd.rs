@@ -26,9 +26,10 @@ use nalgebra::Vector2;
 use rerun::archetypes::{
     Clear, LineStrips2D, Points2D, Scalars, TextDocument, TextLog, Transform3D,
 };
+use rerun::blueprint::components::PanelState;
 use rerun::blueprint::{
-    Blueprint, BlueprintActivation, Horizontal, Spatial2DView, Tabs, TextDocumentView, TextLogView,
-    TimePanel, TimeSeriesView, Vertical,
+    Blueprint, BlueprintActivation, BlueprintPanel, Horizontal, SelectionPanel, Spatial2DView,
+    Tabs, TextDocumentView, TextLogView, TimePanel, TimeSeriesView, Vertical,
 };
 use rerun::components::Radius;
 use rerun::{
@@ -226,7 +227,13 @@ impl RrdLogger {
         // Physical series and per-stage timings have different units: one view each.
         let scalars = TimeSeriesView::new("diagnostics")
             .with_origin("/scalars")
-            .with_contents(["+ /scalars/**", "- /scalars/timing_ms/**"]);
+            .with_contents([
+                "+ /scalars/**",
+                "- /scalars/timing_ms/**",
+                "- /scalars/gauges/**",
+            ]);
+        let gauges =
+            TimeSeriesView::new("gauges: η (m), u and w (m/s)").with_origin("/scalars/gauges");
         let timings = TimeSeriesView::new("ms per stage").with_origin("/scalars/timing_ms");
         let info = Tabs::new([
             timings.into(),
@@ -235,10 +242,18 @@ impl RrdLogger {
                 .into(),
             TextLogView::new("log").with_origin("/").into(),
         ]);
-        let side = Vertical::new([scalars.into(), info.into()]).with_row_shares([3.0, 1.0]);
+        let side = Vertical::new([scalars.into(), gauges.into(), info.into()])
+            .with_row_shares([2.0, 2.0, 1.0]);
         let root = Horizontal::new([flume.into(), side.into()]).with_column_shares([3.0, 2.0]);
-        let blueprint =
-            Blueprint::new(root).with_time_panel(TimePanel::new().with_timeline(SIM_TIMELINE));
+        // The viewer's own side panels start collapsed: the flume and the plots get the room.
+        let blueprint = Blueprint::new(root)
+            .with_blueprint_panel(BlueprintPanel::new().with_state(PanelState::Collapsed))
+            .with_selection_panel(SelectionPanel::new().with_state(PanelState::Collapsed))
+            .with_time_panel(
+                TimePanel::new()
+                    .with_timeline(SIM_TIMELINE)
+                    .with_state(PanelState::Collapsed),
+            );
         blueprint.send(&self.rec, BlueprintActivation::default())?;
         Ok(())
     }

@@ -4,8 +4,8 @@
 
 use super::colormap::ColorScale;
 use super::rrd::{FrameView, RrdLogger};
-use super::summary::{Summary, median};
-use super::timeseries::{GaugeWriter, TimeseriesWriter};
+use super::summary::{GaugeSummary, Summary, median};
+use super::timeseries::{GaugeWriter, TimeseriesWriter, gauge_columns};
 use crate::case::Case;
 use crate::diagnostics::{self, Integrals};
 use crate::simulation::Simulation;
@@ -62,13 +62,14 @@ pub fn run(case: &Case, opts: &RunOptions) -> Result<RunOutcome, RunError> {
     let mut sim = Simulation::new(case).map_err(|e| RunError::Setup(e.to_string()))?;
     let csv_path = opts.out_dir.join("timeseries.csv");
     let mut csv = TimeseriesWriter::create(&csv_path).map_err(io_err(&csv_path))?;
-    let gauges_x = &case.output.gauges_x_m;
     let gauge_path = opts.out_dir.join("gauges.csv");
-    let mut gauge_csv = if gauges_x.is_empty() {
+    let gauge_columns = gauge_columns(&case.output.gauges_x_m, &case.output.probes_m);
+    let mut gauge_csv = if gauge_columns.is_empty() {
         None
     } else {
-        Some(GaugeWriter::create(&gauge_path, gauges_x).map_err(io_err(&gauge_path))?)
+        Some(GaugeWriter::create(&gauge_path, &gauge_columns).map_err(io_err(&gauge_path))?)
     };
+    let mut gauge_records: Vec<(f64, Vec<Option<f64>>)> = Vec::new();
     let rrd_path = opts.out_dir.join("run.rrd");
     let mut rrd = if opts.rrd {
         let (lo, hi) = case.u1_range();
@@ -102,31 +103,34 @@ pub fn run(case: &Case, opts: &RunOptions) -> Result<RunOutcome, RunError> {
     let mut progress = Progress::new(opts.progress, end_s);
     let started = Instant::now();
 
-    let mut record = |sim: &Simulation,
-                      last: Option<&StageTimings>,
-                      last_dt: f64|
-     -> Result<(), RunError> {
-        let t0 = Instant::now();
-        let m = diagnostics::integrals(sim);
-        csv.row(&m, sim.initial_volume_m2, sim.steps, last_dt)
-            .map_err(io_err(&csv_path))?;
-        if let Some(g) = gauge_csv.as_mut() {
-            let eta: Vec<Option<f64>> = gauges_x
-                .iter()
-                .map(|&x| diagnostics::surface_elevation(sim, x))
-                .collect();
-            g.row(sim.time_s, &eta).map_err(io_err(&gauge_path))?;
-        }
-        if let Some(rrd) = rrd.as_mut() {
-            log_frame(rrd, sim, &m, last, case.output.mesh).map_err(|message| RunError::Rrd {
-                path: rrd_path.clone(),
-                message,
-            })?;
-        }
-        series.push(m);
-        logging_ms.push(t0.elapsed().as_secs_f64() * 1e3);
-        Ok(())
-    };
+    let mut record =
+        |sim: &Simulation, last: Option<&StageTimings>, last_dt: f64| -> Result<(), RunError> {
+            let t0 = Instant::now();
+            let m = diagnostics::integrals(sim);
+            csv.row(&m, sim.initial_volume_m2, sim.steps, last_dt)
+                .map_err(io_err(&csv_path))?;
+            let values = gauge_values(sim);
+            if let Some(g) = gauge_csv.as_mut() {
+                g.row(sim.time_s, &values).map_err(io_err(&gauge_path))?;
+            }
+            if let Some(rrd) = rrd.as_mut() {
+                let gauges: Vec<(&str, Option<f64>)> = gauge_columns
+                    .iter()
+                    .map(String::as_str)
+                    .zip(values.iter().copied())
+                    .collect();
+                log_frame(rrd, sim, &m, last, &gauges, case.output.mesh).map_err(|message| {
+                    RunError::Rrd {
+                        path: rrd_path.clone(),
+                        message,
+                    }
+                })?;
+            }
+            gauge_records.push((sim.time_s, values));
+            series.push(m);
+            logging_ms.push(t0.elapsed().as_secs_f64() * 1e3);
+            Ok(())
+        };
 
     record(&sim, None, 0.0)?;
     let mut status = "ok".to_owned();
@@ -175,7 +179,8 @@ pub fn run(case: &Case, opts: &RunOptions) -> Result<RunOutcome, RunError> {
         particle_steps,
         wall_s,
     };
-    let summary = summarize(&sim, &series, &measured, status);
+    let mut summary = summarize(&sim, &series, &measured, status);
+    summary.gauges = gauge_summary(case, &gauge_records);
     let json_path = opts.out_dir.join("summary.json");
     let json = serde_json::to_string_pretty(&summary).expect("summary serialises");
     std::fs::write(&json_path, json + "\n").map_err(io_err(&json_path))?;
@@ -186,12 +191,53 @@ pub fn run(case: &Case, opts: &RunOptions) -> Result<RunOutcome, RunError> {
     })
 }
 
-/// Logs one frame of `sim` with the integrals `m` and the stage timings of the last step.
+/// The gauge readings of `sim`, in the order of [`gauge_columns`]: η at each elevation gauge,
+/// then (u, w) at each velocity probe; `None` where dry.
+pub fn gauge_values(sim: &Simulation) -> Vec<Option<f64>> {
+    let out = &sim.case.output;
+    let mut values: Vec<Option<f64>> = out
+        .gauges_x_m
+        .iter()
+        .map(|&x| diagnostics::surface_elevation(sim, x))
+        .collect();
+    for [x, y] in &out.probes_m {
+        let u = diagnostics::velocity_at(sim, nalgebra::Vector2::new(*x, *y));
+        values.push(u.map(|u| u.x));
+        values.push(u.map(|u| u.y));
+    }
+    values
+}
+
+/// Wave height and period at each elevation gauge over the last (up to) five whole waves,
+/// counted after the paddle's ramp (or over the whole record without a wavemaker).
+fn gauge_summary(case: &Case, records: &[(f64, Vec<Option<f64>>)]) -> Vec<GaugeSummary> {
+    let from_s = case
+        .wavemaker
+        .as_ref()
+        .map_or(0.0, |w| w.ramp_periods * w.period_s);
+    let t: Vec<f64> = records.iter().map(|r| r.0).collect();
+    case.output
+        .gauges_x_m
+        .iter()
+        .enumerate()
+        .map(|(k, &x)| {
+            let eta: Vec<Option<f64>> = records.iter().map(|r| r.1[k]).collect();
+            GaugeSummary {
+                x_m: x,
+                stats: diagnostics::wave_stats(&t, &eta, from_s, 5),
+            }
+        })
+        .collect()
+}
+
+/// Logs one frame of `sim` with the integrals `m`, the stage timings of the last step and the
+/// gauge readings (`(column name, value)`; dry ones are skipped).
 pub fn log_frame(
     rrd: &mut RrdLogger,
     sim: &Simulation,
     m: &Integrals,
     last: Option<&StageTimings>,
+    gauges: &[(&str, Option<f64>)],
     with_mesh: bool,
 ) -> Result<(), String> {
     let p = &sim.particles;
@@ -210,6 +256,11 @@ pub fn log_frame(
                 .map(|(name, ms)| (format!("timing_ms/{name}"), *ms)),
         );
     }
+    scalars.extend(
+        gauges
+            .iter()
+            .filter_map(|(name, v)| v.map(|v| (format!("gauges/{name}"), v))),
+    );
     let named: Vec<(&str, f64)> = scalars.iter().map(|(k, v)| (k.as_str(), *v)).collect();
     let frame = FrameView {
         t_s: sim.time_s,
@@ -268,6 +319,7 @@ fn summarize(sim: &Simulation, series: &[Integrals], m: &Measured, status: Strin
         volume_drift_max: drift,
         final_volume_ratio: series.last().map_or(f64::NAN, |m| m.volume_m2 / v0),
         status,
+        gauges: Vec::new(),
     }
 }
 

@@ -30,6 +30,16 @@ pub struct Summary {
     pub final_volume_ratio: f64,
     /// `ok`, or why the run stopped.
     pub status: String,
+    /// Each surface-elevation gauge: x, and its wave height and period over the last whole
+    /// waves (null when fewer than one whole wave passed).
+    pub gauges: Vec<GaugeSummary>,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct GaugeSummary {
+    pub x_m: f64,
+    #[serde(flatten)]
+    pub stats: Option<crate::diagnostics::WaveStats>,
 }
 
 /// Median of a sample (NaN for none).

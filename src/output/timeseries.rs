@@ -59,22 +59,32 @@ pub fn read_column(path: &Path, name: &str) -> std::io::Result<Vec<f64>> {
 }
 
 /// `gauges.csv`: `t_s`, then one column per surface-elevation gauge, `eta_<x in m, 3 decimals>`
-/// (m above the still-water level; empty when the gauge is dry).
+/// (m above the still-water level), then two per velocity probe, `u_<x>_<y>` and `w_<x>_<y>`
+/// (m/s, horizontal and vertical); a cell is empty when its gauge or probe is dry.
 pub struct GaugeWriter {
     file: std::io::BufWriter<std::fs::File>,
 }
 
+/// Column names of `gauges.csv` after `t_s`.
+pub fn gauge_columns(gauges_x_m: &[f64], probes_m: &[[f64; 2]]) -> Vec<String> {
+    let mut columns: Vec<String> = gauges_x_m.iter().map(|x| format!("eta_{x:.3}")).collect();
+    for [x, y] in probes_m {
+        columns.push(format!("u_{x:.3}_{y:.3}"));
+        columns.push(format!("w_{x:.3}_{y:.3}"));
+    }
+    columns
+}
+
 impl GaugeWriter {
-    pub fn create(path: &Path, gauges_x_m: &[f64]) -> std::io::Result<Self> {
+    pub fn create(path: &Path, columns: &[String]) -> std::io::Result<Self> {
         let mut file = std::io::BufWriter::new(std::fs::File::create(path)?);
-        let columns: Vec<String> = gauges_x_m.iter().map(|x| format!("eta_{x:.3}")).collect();
         writeln!(file, "t_s,{}", columns.join(","))?;
         file.flush()?;
         Ok(Self { file })
     }
 
-    pub fn row(&mut self, t_s: f64, eta_m: &[Option<f64>]) -> std::io::Result<()> {
-        let cells: Vec<String> = eta_m
+    pub fn row(&mut self, t_s: f64, values: &[Option<f64>]) -> std::io::Result<()> {
+        let cells: Vec<String> = values
             .iter()
             .map(|e| e.map_or(String::new(), |v| format!("{v:.6}")))
             .collect();

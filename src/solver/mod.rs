@@ -13,6 +13,7 @@ mod nodes;
 mod predict;
 pub mod pressure;
 mod step;
+mod volume;
 
 use crate::case::{
     Case, DtPolicy, Fluid, ParticleSettings, PressureSolver, SolverSettings, TauFormula,
@@ -51,11 +52,23 @@ pub struct SolverParams {
     pub dt_min_s: f64,
     /// May the solver shorten Δt on its own (CFL policy) when a step would invert elements?
     pub adaptive_dt: bool,
+    /// Damping layer: (start x, length, β in 1/s).
+    pub absorber: Option<(f64, f64, f64)>,
+    /// Global volume correction on the free surface (see `volume.rs`).
+    pub volume_recovery: bool,
 }
 
 impl SolverParams {
     pub fn from_case(case: &Case) -> SolverParams {
-        Self::resolve(&case.fluid, &case.particles, &case.solver, &case.time)
+        let mut p = Self::resolve(&case.fluid, &case.particles, &case.solver, &case.time);
+        p.absorber = case.absorber.as_ref().map(|a| {
+            (
+                case.flume.length_m - a.length_m,
+                a.length_m,
+                a.strength_per_s,
+            )
+        });
+        p
     }
 
     /// Resolves the case's settings (units, derived lengths) into solver parameters.
@@ -84,6 +97,8 @@ impl SolverParams {
             remove_distance_h: s.remove_distance_h,
             dt_min_s: time.dt_min_s,
             adaptive_dt: time.dt_policy == DtPolicy::Cfl,
+            absorber: None,
+            volume_recovery: s.volume_recovery,
         }
     }
 }
@@ -107,7 +122,7 @@ pub struct StageTimings {
     pub pressure_solve_ms: f64,
     /// Velocity correction and pressure-gradient projection.
     pub correct_ms: f64,
-    /// Particle motion and wall guard.
+    /// Particle motion and wall guard (and the volume recovery, when on).
     pub move_ms: f64,
 }
 
@@ -153,6 +168,8 @@ pub struct StepReport {
     /// Change of the area of this step's mesh when its nodes moved: the velocity field's
     /// divergence error.
     pub motion_area_change_m2: f64,
+    /// Area put back on the free surface by the volume recovery, m²/m.
+    pub recovered_area_m2: f64,
     /// Particles inserted and removed before the remesh.
     pub nodes_inserted: usize,
     pub nodes_removed: usize,
@@ -199,6 +216,8 @@ pub struct Solver {
     dirichlet: Vec<bool>,
     /// Area of the last step's mesh after its move (`None` before the first step).
     moved_area: Option<f64>,
+    /// The water area to keep when `volume_recovery` is on (the initial one), m².
+    pub volume_target_m2: Option<f64>,
     pressure: PressureSystem,
     /// The symbolic Cholesky analysis of this step, running on a second thread.
     symbolic_job: Option<pressure::SymbolicJob>,
@@ -233,7 +252,7 @@ impl Solver {
 
 impl Solver {
     /// Stages 1–2 only: mesh the current cloud without advancing it (for t = 0 and observers).
-    pub fn remesh(&mut self, particles: &Particles) -> Result<(), MeshError> {
+    pub fn remesh(&mut self, particles: &Particles, flume: &Flume) -> Result<(), MeshError> {
         let tri = crate::mesh::triangulate(particles, &mut self.vertices)?;
         let p = &self.params;
         crate::mesh::alpha_shape(
@@ -242,10 +261,12 @@ impl Solver {
             p.alpha,
             p.alpha_boundary,
             p.spacing_m,
+            flume.paddle_now.as_ref(),
             &mut self.mesh,
         );
         Ok(())
     }
 }
 
+use crate::geometry::Flume;
 use crate::particles::Particles;

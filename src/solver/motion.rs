@@ -1,7 +1,8 @@
 //! Stage `move`: commit uⁿ⁺¹, pⁿ⁺¹ and π, move the fluid particles, x ← x + Δt uⁿ⁺¹ (thesis
 //! eq. 2.59), and put back any particle that came closer to the solid than the wall margin
 //! (method.md §2 (c)–(d)), removing its velocity into the wall. Also the inversion check that
-//! lets the step halve Δt.
+//! lets the step halve Δt. In a damping layer (`absorber`), fluid velocities are first
+//! multiplied by max(0, 1 − Δt·β·f²), f the fraction of the way into the layer.
 
 use super::{Solver, StepError};
 use crate::geometry::Flume;
@@ -40,7 +41,9 @@ impl Solver {
             particles.pressure[i] = self.p_new[i];
             particles.pressure_gradient_projection[i] = self.pi_new[i];
             if !particles.is_fluid(i) {
-                // Walls stay put; a slip wall keeps its velocity along the wall.
+                // Walls move with their solid (a paddle; fixed walls stay put); a slip wall keeps
+                // its velocity along the wall.
+                particles.position[i] += dt * particles.wall_velocity[i];
                 particles.velocity[i] = self.u_new[i];
                 continue;
             }
@@ -53,6 +56,10 @@ impl Solver {
                     x: x.x,
                     y: x.y,
                 });
+            }
+            if let Some((x0, length, beta)) = self.params.absorber {
+                let f = ((particles.position[i].x - x0) / length).clamp(0.0, 1.0);
+                u *= (1.0 - dt * beta * f * f).max(0.0);
             }
             let mut x = particles.position[i] + dt * u;
             if flume.guard(&mut x, &mut u, margin) {

@@ -9,7 +9,8 @@
 //!    free surface (the pattern is built right after the α-shape, so that its symbolic
 //!    factorisation runs on the second core during stages 3–5);
 //! 6. `correct`: uⁿ⁺¹ = ũ + Δt M⁻¹ Dᵀ(pⁿ⁺¹ − γpⁿ), and π from pⁿ⁺¹;
-//! 7. `move`: xⁿ⁺¹ = xⁿ + Δt uⁿ⁺¹ (thesis eq. 2.59), then the wall guard.
+//! 7. `move`: xⁿ⁺¹ = xⁿ + Δt uⁿ⁺¹ (thesis eq. 2.59), then the wall guard, then (optional)
+//!    the volume recovery on the free surface (`volume.rs`).
 //!
 //! If the new velocities would turn a kept triangle inside out within Δt, and the Δt policy
 //! allows it, stages 4–6 are redone with Δt/2.
@@ -48,7 +49,15 @@ impl Solver {
             mesh::triangulate(particles, &mut self.vertices)
         })?;
         timed(&mut t.alpha_shape_ms, || {
-            mesh::alpha_shape(&tri, particles, alpha, alpha_b, h, &mut self.mesh)
+            mesh::alpha_shape(
+                &tri,
+                particles,
+                alpha,
+                alpha_b,
+                h,
+                flume.paddle_now.as_ref(),
+                &mut self.mesh,
+            )
         });
         drop(tri);
         timed(&mut t.assemble_ms, || self.prepare_pressure(particles));
@@ -78,7 +87,13 @@ impl Solver {
 
         let guarded = timed(&mut t.move_ms, || self.move_particles(particles, flume, dt))?;
         let area_after_move = self.mesh.area(&particles.position);
-        self.moved_area = Some(area_after_move);
+        let recovered = match self.volume_target_m2 {
+            Some(target) if self.params.volume_recovery => timed(&mut t.move_ms, || {
+                self.recover_volume(particles, area_after_move, target)
+            }),
+            _ => 0.0,
+        };
+        self.moved_area = Some(area_after_move + recovered);
 
         Ok(StepReport {
             dt_s: dt,
@@ -94,6 +109,7 @@ impl Solver {
             dt_halvings: halvings,
             remesh_area_change_m2: remesh_change,
             motion_area_change_m2: area_after_move - area_before_move,
+            recovered_area_m2: recovered,
             nodes_inserted: changes.inserted,
             nodes_removed: changes.removed,
         })

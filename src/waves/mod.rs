@@ -23,9 +23,11 @@
 //! `z` is vertical with `z = 0` at the still water level and `z = −h` at the
 //! bed. Gravity is always passed in explicitly (`gravity_m_s2`).
 
+pub mod breaker;
 pub mod cnoidal;
 pub mod elliptic;
 pub mod linear;
+pub mod paddle;
 pub mod solitary;
 
 use std::fmt;
@@ -82,7 +84,7 @@ impl fmt::Display for WaveError {
                 max_height_m,
             } => write!(
                 f,
-                "wave height {height_m} m exceeds the breaking limit of {max_height_m} m"
+                "wave height {height_m} m exceeds the breaking limit of {max_height_m:.3} m"
             ),
             WaveError::UrsellSolve { period_s, reason } => {
                 write!(f, "no cnoidal wave with period {period_s} s: {reason}")

@@ -1,0 +1,15 @@
+//! The lab (feature `lab`): one window with the Rerun viewer embedded in-process and our egui
+//! side panel; the solver runs in a worker thread and streams into the viewer through an
+//! in-process channel (no network port, no separate viewer).
+//!
+//! - [`controls`]: settings → case, and the derived read-outs (no egui);
+//! - [`worker`]: the solver thread and its typed commands;
+//! - [`panel`]: the side panel;
+//! - [`window`]: the eframe app that hosts the viewer and the panel.
+
+pub mod controls;
+pub mod panel;
+mod window;
+pub mod worker;
+
+pub use window::{LabOptions, run};

@@ -1,0 +1,235 @@
+//! The window: `re_viewer::App` in an eframe window, with the panel on the right.
+
+use super::controls::{Preset, presets_in};
+use super::panel::Panel;
+use super::worker::SinkFactory;
+use rerun::external::re_log_channel::{self, LogSource};
+use rerun::external::re_viewer;
+use rerun::log::LogMsg;
+use rerun::sink::{CallbackSink, LogSink};
+use std::path::PathBuf;
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+/// How to open the lab.
+#[derive(Debug, Clone, Default)]
+pub struct LabOptions {
+    /// The case to open (default: `cases/teaching_beach.toml`, else the first preset).
+    pub case: Option<PathBuf>,
+    /// Save a PNG of the window to this path once the solver has run `screenshot_after_s`
+    /// simulated seconds, then exit.
+    pub screenshot: Option<PathBuf>,
+    pub screenshot_after_s: f64,
+    /// Where the "record" checkbox writes.
+    pub record_path: PathBuf,
+}
+
+/// The folder of presets: that of the given case, else `cases/` here, else the source tree's.
+fn presets_for(case: Option<&PathBuf>) -> Vec<Preset> {
+    let mut dirs: Vec<PathBuf> = Vec::new();
+    if let Some(dir) = case.and_then(|c| c.parent()) {
+        dirs.push(if dir.as_os_str().is_empty() {
+            PathBuf::from(".")
+        } else {
+            dir.to_owned()
+        });
+    }
+    dirs.push(PathBuf::from("cases"));
+    dirs.push(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("cases"));
+    let mut presets = dirs
+        .iter()
+        .map(|d| presets_in(d))
+        .find(|p| !p.is_empty())
+        .unwrap_or_default();
+    // A case outside the folders scanned is still offered.
+    if let Some(c) = case
+        && !presets.iter().any(|p| same_file(&p.path, c))
+        && let Ok(text) = std::fs::read_to_string(c)
+    {
+        let name = c
+            .file_stem()
+            .map_or("case".into(), |s| s.to_string_lossy().into_owned());
+        presets.push(Preset {
+            name,
+            path: c.clone(),
+            text,
+        });
+    }
+    presets
+}
+
+fn same_file(a: &std::path::Path, b: &std::path::Path) -> bool {
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => a == b,
+    }
+}
+
+/// Opens the lab window and blocks until it is closed.
+pub fn run(opts: LabOptions) -> anyhow::Result<()> {
+    let presets = presets_for(opts.case.as_ref());
+    anyhow::ensure!(
+        !presets.is_empty(),
+        "no case files found (looked in the case's folder and in cases/)"
+    );
+    let start = match &opts.case {
+        Some(c) => presets
+            .iter()
+            .position(|p| same_file(&p.path, c))
+            .unwrap_or(0),
+        None => presets
+            .iter()
+            .position(|p| p.name == "teaching_beach")
+            .unwrap_or(0),
+    };
+    // Fail before opening a window if the chosen case is bad.
+    {
+        let p = &presets[start];
+        crate::case::Case::from_toml_str(&p.text, &p.path, &p.name, &[])?;
+    }
+
+    re_crash_handler_install();
+    let runtime = tokio_runtime()?;
+    let (tx, rx) = re_log_channel::log_channel(LogSource::Sdk);
+    let tx = Arc::new(Mutex::new(tx));
+    let sinks: SinkFactory = Arc::new(move || {
+        let tx = tx.clone();
+        let sink: Box<dyn LogSink> = Box::new(CallbackSink::new(move |msgs: &[LogMsg]| {
+            if let Ok(tx) = tx.lock() {
+                for m in msgs {
+                    let _ = tx.send(m.clone().into());
+                }
+            }
+        }));
+        vec![sink]
+    });
+
+    let mut native = re_viewer::native::eframe_options(None);
+    native.viewport = native
+        .viewport
+        .with_title("surflab")
+        .with_inner_size([1500.0, 900.0]);
+    let screenshot = opts.screenshot.clone();
+    let after = opts.screenshot_after_s;
+    let record_path = opts.record_path.clone();
+    let autorun = true;
+    eframe::run_native(
+        "surflab",
+        native,
+        Box::new(move |cc| {
+            re_viewer::customize_eframe_and_setup_renderer(cc)?;
+            let mut startup = re_viewer::StartupOptions::default();
+            startup.hide_welcome_screen = true;
+            let mut app = re_viewer::App::new(
+                re_viewer::MainThreadToken::i_promise_i_am_on_the_main_thread(),
+                re_viewer::build_info(),
+                re_viewer::AppEnvironment::Custom("surflab".into()),
+                startup,
+                cc,
+                None,
+                re_viewer::AsyncRuntimeHandle::new_native(runtime.handle().clone()),
+            );
+            app.add_log_receiver(rx);
+            let panel = Panel::new(presets, start, sinks, record_path, autorun)
+                .map_err(|e| anyhow::anyhow!(e))?;
+            Ok(Box::new(LabApp {
+                viewer: app,
+                panel,
+                screenshot: screenshot.map(|path| Screenshot {
+                    path,
+                    after_s: after,
+                    requested: false,
+                    opened: Instant::now(),
+                }),
+                _runtime: runtime,
+            }))
+        }),
+    )
+    .map_err(|e| anyhow::anyhow!("the window failed: {e}"))
+}
+
+fn re_crash_handler_install() {
+    rerun::external::re_crash_handler::install_crash_handlers(re_viewer::build_info());
+}
+
+fn tokio_runtime() -> anyhow::Result<tokio::runtime::Runtime> {
+    Ok(tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(1)
+        .enable_all()
+        .build()?)
+}
+
+struct Screenshot {
+    path: PathBuf,
+    after_s: f64,
+    requested: bool,
+    opened: Instant,
+}
+
+struct LabApp {
+    viewer: re_viewer::App,
+    panel: Panel,
+    screenshot: Option<Screenshot>,
+    _runtime: tokio::runtime::Runtime,
+}
+
+impl eframe::App for LabApp {
+    fn logic(&mut self, ctx: &egui::Context, frame: &mut eframe::Frame) {
+        self.viewer.logic(ctx, frame);
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
+        egui::Panel::right("surflab_panel")
+            .default_size(330.0)
+            .show(ui, |ui| self.panel.ui(ui));
+        self.viewer.ui(ui, frame);
+        self.screenshot_step(ui.ctx());
+    }
+
+    fn save(&mut self, storage: &mut dyn eframe::Storage) {
+        self.viewer.save(storage);
+    }
+}
+
+impl LabApp {
+    /// `--screenshot`: once the solver has run long enough (or a wall-clock limit passed, or it
+    /// stopped), ask for a screenshot; when it arrives, save it and close.
+    fn screenshot_step(&mut self, ctx: &egui::Context) {
+        let Some(shot) = self.screenshot.as_mut() else {
+            return;
+        };
+        let status = &self.panel.worker.status;
+        let waited = shot.opened.elapsed();
+        let ready = status.t_s >= shot.after_s
+            || status.error.is_some()
+            || waited > Duration::from_secs_f64(120.0 + 20.0 * shot.after_s);
+        if ready && !shot.requested {
+            // Let the viewer draw the last data first.
+            shot.requested = true;
+            ctx.send_viewport_cmd(egui::ViewportCommand::Screenshot(Default::default()));
+        }
+        let image = ctx.input(|i| {
+            i.raw.events.iter().find_map(|e| match e {
+                egui::Event::Screenshot { image, .. } => Some(image.clone()),
+                _ => None,
+            })
+        });
+        if let Some(image) = image {
+            let [w, h] = image.size;
+            let bytes: Vec<u8> = image.pixels.iter().flat_map(|c| c.to_array()).collect();
+            let result = image::RgbaImage::from_raw(w as u32, h as u32, bytes)
+                .ok_or_else(|| "bad screenshot buffer".to_owned())
+                .and_then(|img| img.save(&shot.path).map_err(|e| e.to_string()));
+            match result {
+                Ok(()) => eprintln!(
+                    "surflab: saved {} ({w}×{h}) at t = {:.3} s simulated",
+                    shot.path.display(),
+                    status.t_s
+                ),
+                Err(e) => eprintln!("surflab: cannot save {}: {e}", shot.path.display()),
+            }
+            ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+        }
+        ctx.request_repaint();
+    }
+}

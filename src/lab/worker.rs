@@ -1,0 +1,416 @@
+//! The solver's thread. The panel sends it typed [`Command`]s and reads its [`Status`]; it owns
+//! the simulation and the recording stream, so the window never waits for a step.
+//!
+//! While running, it steps for about one display frame's worth of wall time (the budget adapts
+//! to how long steps take), then logs one frame and reports. A numerical failure or a panic in a
+//! step stops the run and shows in the status; the thread lives on and obeys the next command.
+
+use crate::case::Case;
+use crate::diagnostics;
+use crate::output::colormap::ColorScale;
+use crate::output::rrd::RrdLogger;
+use crate::output::run::{gauge_values, log_frame};
+use crate::output::timeseries::gauge_columns;
+use crate::simulation::Simulation;
+use crate::solver::StageTimings;
+use rerun::sink::LogSink;
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender};
+use std::time::{Duration, Instant};
+
+/// What the panel asks of the worker.
+#[derive(Debug, Clone)]
+pub enum Command {
+    Run,
+    Pause,
+    /// One step, then pause.
+    Step,
+    /// Start again from t = 0 with this case (also for changes that need a new flume).
+    Reset(Box<Case>),
+    /// Apply a change that does not need a new flume (wave height and period, α) at the next step.
+    Retune(Box<Case>),
+    /// Record to this .rrd file from now on (`None`: stop recording).
+    Record(Option<PathBuf>),
+    Shutdown,
+}
+
+/// What the worker reports after each frame and each command.
+#[derive(Debug, Clone, Default)]
+pub struct Status {
+    pub case_name: String,
+    pub running: bool,
+    pub t_s: f64,
+    pub steps: u64,
+    pub particles: usize,
+    pub fluid_particles: usize,
+    /// Simulated seconds per wall second over the last frames.
+    pub real_time_factor: f64,
+    /// Mean ms per step over the last frame, overall and per stage.
+    pub ms_per_step: f64,
+    pub stage_ms: Vec<(&'static str, f64)>,
+    /// Steps taken per logged frame (adapted to the frame budget).
+    pub steps_per_frame: usize,
+    pub volume_ratio: f64,
+    /// The .rrd being written, if any.
+    pub recording: Option<PathBuf>,
+    /// Why the run stopped (a failure or a panic), until the next reset.
+    pub error: Option<String>,
+    /// Frames logged since the start.
+    pub frames: u64,
+}
+
+/// Sinks the recording stream always feeds (the embedded viewer; nothing in tests).
+pub type SinkFactory = Arc<dyn Fn() -> Vec<Box<dyn LogSink>> + Send + Sync>;
+
+/// The panel's end of the worker.
+pub struct WorkerHandle {
+    tx: Sender<Command>,
+    rx: Receiver<Status>,
+    thread: Option<std::thread::JoinHandle<()>>,
+    /// The latest status received.
+    pub status: Status,
+}
+
+impl WorkerHandle {
+    /// Starts the worker on `case` (paused) with a wall-time budget per frame.
+    pub fn spawn(case: Case, sinks: SinkFactory, frame_budget: Duration) -> WorkerHandle {
+        let (tx, cmd_rx) = std::sync::mpsc::channel();
+        let (status_tx, rx) = std::sync::mpsc::channel();
+        let thread = std::thread::Builder::new()
+            .name("surflab-solver".into())
+            .spawn(move || {
+                let mut w = Worker::new(case, sinks, status_tx, frame_budget);
+                w.run(cmd_rx);
+            })
+            .expect("spawn the solver thread");
+        WorkerHandle {
+            tx,
+            rx,
+            thread: Some(thread),
+            status: Status::default(),
+        }
+    }
+
+    /// Sends a command (ignored if the worker has gone).
+    pub fn send(&self, c: Command) {
+        let _ = self.tx.send(c);
+    }
+
+    /// Takes every status that arrived; returns true if any did.
+    pub fn poll(&mut self) -> bool {
+        let mut any = false;
+        while let Ok(s) = self.rx.try_recv() {
+            self.status = s;
+            any = true;
+        }
+        any
+    }
+
+    /// Is the thread still alive?
+    pub fn alive(&self) -> bool {
+        self.thread.as_ref().is_some_and(|t| !t.is_finished())
+    }
+}
+
+impl Drop for WorkerHandle {
+    fn drop(&mut self) {
+        let _ = self.tx.send(Command::Shutdown);
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+struct Worker {
+    sim: Option<Simulation>,
+    case: Case,
+    sinks: SinkFactory,
+    logger: Option<RrdLogger>,
+    recording: Option<PathBuf>,
+    status_tx: Sender<Status>,
+    status: Status,
+    frame_budget: Duration,
+    last_timings: Option<StageTimings>,
+    rtf_window: (f64, f64),
+}
+
+impl Worker {
+    fn new(
+        case: Case,
+        sinks: SinkFactory,
+        status_tx: Sender<Status>,
+        frame_budget: Duration,
+    ) -> Worker {
+        let mut w = Worker {
+            sim: None,
+            case: case.clone(),
+            sinks,
+            logger: None,
+            recording: None,
+            status_tx,
+            status: Status::default(),
+            frame_budget,
+            last_timings: None,
+            rtf_window: (0.0, 0.0),
+        };
+        w.reset(case);
+        w
+    }
+
+    fn run(&mut self, rx: Receiver<Command>) {
+        loop {
+            // Paused: wait for a command. Running: take what has arrived and step.
+            let first = if self.status.running {
+                rx.try_recv().ok()
+            } else {
+                match rx.recv_timeout(Duration::from_millis(200)) {
+                    Ok(c) => Some(c),
+                    Err(RecvTimeoutError::Timeout) => continue,
+                    Err(RecvTimeoutError::Disconnected) => return,
+                }
+            };
+            let mut next = first;
+            while let Some(c) = next {
+                if !self.obey(c) {
+                    return;
+                }
+                next = rx.try_recv().ok();
+            }
+            if self.status.running {
+                self.frame(usize::MAX);
+            }
+        }
+    }
+
+    /// Returns false on shutdown.
+    fn obey(&mut self, c: Command) -> bool {
+        match c {
+            Command::Run => {
+                if self.sim.is_some() && self.status.error.is_none() {
+                    self.status.running = true;
+                }
+            }
+            Command::Pause => self.status.running = false,
+            Command::Step => {
+                self.status.running = false;
+                if self.status.error.is_none() {
+                    self.frame(1);
+                }
+            }
+            Command::Reset(case) => self.reset(*case),
+            Command::Retune(case) => self.retune(*case),
+            Command::Record(path) => {
+                self.recording = path;
+                self.open_logger();
+            }
+            Command::Shutdown => return false,
+        }
+        self.report();
+        true
+    }
+
+    fn reset(&mut self, case: Case) {
+        self.case = case;
+        self.status = Status {
+            case_name: self.case.name.clone(),
+            recording: self.recording.clone(),
+            ..Status::default()
+        };
+        self.last_timings = None;
+        self.rtf_window = (0.0, 0.0);
+        match Simulation::new(&self.case) {
+            Ok(sim) => self.sim = Some(sim),
+            Err(e) => {
+                self.sim = None;
+                self.status.error = Some(format!("cannot set up the case: {e}"));
+            }
+        }
+        self.open_logger();
+        self.log();
+        self.report();
+    }
+
+    /// Wave height and period, α: taken at the next step, without a new flume.
+    fn retune(&mut self, case: Case) {
+        let Some(sim) = self.sim.as_mut() else {
+            return self.reset(case);
+        };
+        sim.solver.params.alpha = case.solver.alpha;
+        if let (Some(w), Some(Ok(motion))) = (sim.wavemaker.as_mut(), case.paddle_motion()) {
+            w.retune(motion, sim.time_s);
+        }
+        sim.case = case.clone();
+        self.case = case;
+    }
+
+    /// A new recording (the viewer shows it as the newest), fed to the viewer and, when
+    /// recording, to the .rrd file.
+    fn open_logger(&mut self) {
+        self.logger = None;
+        let Some(sim) = &self.sim else { return };
+        let mut sinks = (self.sinks)();
+        if let Some(path) = &self.recording {
+            match rerun::sink::FileSink::new(path) {
+                Ok(f) => sinks.push(Box::new(f)),
+                Err(e) => {
+                    self.status.error = Some(format!("cannot record to {}: {e}", path.display()));
+                    self.recording = None;
+                }
+            }
+        }
+        self.status.recording = self.recording.clone();
+        let stream = match rerun::RecordingStreamBuilder::new("surflab").set_sinks(sinks) {
+            Ok(s) => s,
+            Err(e) => {
+                self.status.error = Some(format!("cannot open the recording: {e}"));
+                return;
+            }
+        };
+        stream.set_log_time_enabled(false);
+        let (lo, hi) = self.case.u1_range();
+        let outline: Vec<[f64; 2]> = sim.flume.outline.iter().map(|p| [p.x, p.y]).collect();
+        match RrdLogger::from_stream(
+            stream,
+            &outline,
+            ColorScale { min: lo, max: hi },
+            0.5 * self.case.particles.spacing_m,
+        ) {
+            Ok(l) => self.logger = Some(l),
+            Err(e) => self.status.error = Some(format!("cannot open the recording: {e}")),
+        }
+    }
+
+    /// Steps for one frame's budget (at most `max_steps`), then logs a frame.
+    fn frame(&mut self, max_steps: usize) {
+        let Some(sim) = self.sim.as_mut() else {
+            self.status.running = false;
+            return;
+        };
+        let started = Instant::now();
+        let t_start = sim.time_s;
+        let mut steps = 0usize;
+        let mut sum = StageTimings::default();
+        let end = self.case.time.end_s.max(sim.time_s + 1e-9);
+        let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            while steps < max_steps && started.elapsed() < self.frame_budget {
+                let until = if sim.time_s >= end - 1e-12 {
+                    f64::INFINITY
+                } else {
+                    end
+                };
+                match sim.step_towards(until.min(sim.time_s + 1.0)) {
+                    Ok(r) => {
+                        steps += 1;
+                        add(&mut sum, &r.timings);
+                    }
+                    Err(e) => {
+                        return Err(format!(
+                            "stopped at t = {:.4} s (step {}): {e}",
+                            sim.time_s, sim.steps
+                        ));
+                    }
+                }
+            }
+            Ok(())
+        }));
+        let failure = match outcome {
+            Ok(Ok(())) => None,
+            Ok(Err(e)) => Some(e),
+            Err(panic) => {
+                let what = panic
+                    .downcast_ref::<String>()
+                    .cloned()
+                    .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
+                    .unwrap_or_else(|| "unknown panic".into());
+                // The state may be half-updated: drop it; a reset starts afresh.
+                self.sim = None;
+                Some(format!("the solver panicked: {what}"))
+            }
+        };
+        let wall = started.elapsed().as_secs_f64();
+        if let Some(sim) = &self.sim {
+            let sim_dt = sim.time_s - t_start;
+            // Exponential smoothing of the real-time factor over a few frames.
+            self.rtf_window = (
+                0.8 * self.rtf_window.0 + sim_dt,
+                0.8 * self.rtf_window.1 + wall,
+            );
+            if steps > 0 {
+                let n = steps as f64;
+                self.status.ms_per_step = sum.total_ms() / n;
+                self.status.stage_ms = sum.named().iter().map(|(k, v)| (*k, v / n)).collect();
+                self.last_timings = Some(sum);
+            }
+        }
+        self.status.steps_per_frame = steps;
+        if let Some(f) = failure {
+            self.status.error = Some(f);
+            self.status.running = false;
+        }
+        self.log();
+        self.report();
+    }
+
+    fn log(&mut self) {
+        let (Some(sim), Some(logger)) = (&self.sim, self.logger.as_mut()) else {
+            return;
+        };
+        let m = diagnostics::integrals(sim);
+        let values = gauge_values(sim);
+        let names = gauge_columns(&sim.case.output.gauges_x_m, &sim.case.output.probes_m);
+        let gauges: Vec<(&str, Option<f64>)> =
+            names.iter().map(String::as_str).zip(values).collect();
+        let timings = self.last_timings.map(|t| {
+            let n = self.status.steps_per_frame.max(1) as f64;
+            scale(&t, 1.0 / n)
+        });
+        if let Err(e) = log_frame(logger, sim, &m, timings.as_ref(), &gauges, false) {
+            self.status.error = Some(format!("recording failed: {e}"));
+        }
+        self.status.volume_ratio = m.volume_m2 / sim.initial_volume_m2;
+        self.status.frames += 1;
+    }
+
+    fn report(&mut self) {
+        if let Some(sim) = &self.sim {
+            self.status.t_s = sim.time_s;
+            self.status.steps = sim.steps;
+            self.status.particles = sim.particles.len();
+            self.status.fluid_particles = sim.particles.fluid_count();
+        }
+        self.status.real_time_factor = if self.rtf_window.1 > 0.0 {
+            self.rtf_window.0 / self.rtf_window.1
+        } else {
+            0.0
+        };
+        self.status.case_name = self.case.name.clone();
+        let _ = self.status_tx.send(self.status.clone());
+    }
+}
+
+fn add(sum: &mut StageTimings, t: &StageTimings) {
+    sum.nodes_ms += t.nodes_ms;
+    sum.remesh_ms += t.remesh_ms;
+    sum.alpha_shape_ms += t.alpha_shape_ms;
+    sum.elements_ms += t.elements_ms;
+    sum.predict_ms += t.predict_ms;
+    sum.assemble_ms += t.assemble_ms;
+    sum.pressure_solve_ms += t.pressure_solve_ms;
+    sum.correct_ms += t.correct_ms;
+    sum.move_ms += t.move_ms;
+}
+
+fn scale(t: &StageTimings, f: f64) -> StageTimings {
+    StageTimings {
+        nodes_ms: t.nodes_ms * f,
+        remesh_ms: t.remesh_ms * f,
+        alpha_shape_ms: t.alpha_shape_ms * f,
+        elements_ms: t.elements_ms * f,
+        predict_ms: t.predict_ms * f,
+        assemble_ms: t.assemble_ms * f,
+        pressure_solve_ms: t.pressure_solve_ms * f,
+        correct_ms: t.correct_ms * f,
+        move_ms: t.move_ms * f,
+    }
+}

@@ -1,0 +1,204 @@
+//! The lab's panel, driven through egui_kittest: read-outs follow the controls, run/pause/reset
+//! drive the worker, an impossible wave is refused with its reason, and 1 000 random changes
+//! while running neither crash nor deadlock.
+#![cfg(feature = "lab")]
+
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+use surflab::lab::controls::{Preset, presets_in};
+use surflab::lab::panel::Panel;
+use surflab::lab::worker::SinkFactory;
+
+fn cases_dir() -> std::path::PathBuf {
+    std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("cases")
+}
+
+/// The teaching beach at a coarse resolution, so the worker steps quickly.
+fn panel(autorun: bool) -> Panel {
+    let mut presets: Vec<Preset> = presets_in(&cases_dir());
+    let k = presets
+        .iter()
+        .position(|p| p.name == "teaching_beach")
+        .expect("cases/teaching_beach.toml");
+    presets[k].text = presets[k]
+        .text
+        .replace("spacing_m = 0.02", "spacing_m = 0.05");
+    // No viewer in the tests: the recording stream feeds nothing.
+    let sinks: SinkFactory = Arc::new(Vec::new);
+    let record = std::env::temp_dir().join(format!("surflab_panel_{}.rrd", std::process::id()));
+    Panel::new(presets, k, sinks, record, autorun).expect("panel")
+}
+
+fn harness(p: Panel) -> Harness<'static, Panel> {
+    Harness::builder()
+        .with_size(egui::vec2(420.0, 1000.0))
+        .build_ui_state(|ui, p: &mut Panel| p.ui(ui), p)
+}
+
+/// Steps the UI until `done` holds for the panel, or fails after `secs`.
+fn wait_for(h: &mut Harness<'static, Panel>, secs: f64, what: &str, done: impl Fn(&Panel) -> bool) {
+    let start = Instant::now();
+    while !done(h.state()) {
+        assert!(
+            start.elapsed().as_secs_f64() < secs,
+            "timed out after {secs} s waiting for: {what}"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+        h.step();
+    }
+}
+
+fn has_label_containing(h: &Harness<'static, Panel>, text: &str) -> bool {
+    h.query_by_label_contains(text).is_some()
+}
+
+#[test]
+fn changing_h_t_or_the_slope_updates_iribarren_and_the_breaker() {
+    let mut h = harness(panel(false));
+    h.run_steps(2);
+    // The case as written: slope 0.1, H = 0.08 m, T = 1.6 s → Ir = 0.71, plunging.
+    assert!(has_label_containing(&h, "Ir = 0.71"), "initial Ir");
+    assert!(has_label_containing(&h, "plunging"));
+
+    // A gentle slope: Ir = 0.03/sqrt(0.08/4.0) = 0.21, spilling.
+    h.state_mut().controls.slope = Some(0.03);
+    h.run_steps(2);
+    let ir = h.state().derived.iribarren.unwrap();
+    println!(
+        "slope 0.03: Ir = {ir:.3}, {:?}",
+        h.state().derived.predicted
+    );
+    assert!(has_label_containing(&h, "Ir = 0.21"));
+    assert!(has_label_containing(&h, "spilling"));
+
+    // A longer period on a steeper slope: 0.2/sqrt(0.08/6.245) = 1.77, collapsing.
+    h.state_mut().controls.slope = Some(0.2);
+    h.state_mut().controls.period_s = Some(2.0);
+    h.run_steps(2);
+    let ir = h.state().derived.iribarren.unwrap();
+    println!(
+        "slope 0.2, T = 2 s: Ir = {ir:.3}, {:?}",
+        h.state().derived.predicted
+    );
+    assert!(has_label_containing(&h, "Ir = 1.77"));
+    assert!(has_label_containing(&h, "collapsing"));
+
+    // A smaller wave on it: 0.2/sqrt(0.02/6.245) = 3.53, surging.
+    h.state_mut().controls.height_m = Some(0.02);
+    h.run_steps(2);
+    let d = &h.state().derived;
+    println!(
+        "H = 0.02 m: Ir = {:.3}, {:?}",
+        d.iribarren.unwrap(),
+        d.predicted
+    );
+    assert_eq!(d.predicted.map(|b| b.name()), Some("surging"));
+}
+
+#[test]
+fn run_pause_and_reset_drive_the_worker() {
+    let mut h = harness(panel(false));
+    h.run_steps(2);
+    h.get_by_label_contains("Run").click();
+    wait_for(&mut h, 60.0, "the worker to run", |p| {
+        p.worker.status.running && p.worker.status.t_s > 0.05
+    });
+    h.get_by_label_contains("Pause").click();
+    wait_for(&mut h, 30.0, "the worker to pause", |p| {
+        !p.worker.status.running
+    });
+    let paused_at = h.state().worker.status.t_s;
+    std::thread::sleep(Duration::from_millis(300));
+    h.run_steps(3);
+    assert_eq!(
+        h.state().worker.status.t_s,
+        paused_at,
+        "time moved while paused"
+    );
+    h.get_by_label_contains("Step").click();
+    wait_for(&mut h, 30.0, "one step", |p| {
+        p.worker.status.t_s > paused_at
+    });
+    h.get_by_label_contains("Reset").click();
+    wait_for(&mut h, 30.0, "the reset", |p| p.worker.status.t_s == 0.0);
+    println!(
+        "paused at t = {paused_at:.4} s; after reset t = {}",
+        h.state().worker.status.t_s
+    );
+}
+
+#[test]
+fn an_impossible_wave_is_refused_with_its_reason() {
+    let mut h = harness(panel(false));
+    h.run_steps(2);
+    let applied = h.state().applied.clone();
+    // 0.5 m waves in 0.4 m of water: beyond the breaking limit.
+    h.state_mut().controls.height_m = Some(0.5);
+    h.state_mut().apply();
+    h.run_steps(2);
+    let refusal = h.state().derived.refusal.clone().expect("a refusal");
+    println!("refused: {refusal}");
+    assert!(refusal.contains("wavemaker.height_m"), "{refusal}");
+    assert!(has_label_containing(&h, "refused"));
+    assert_eq!(
+        h.state().applied,
+        applied,
+        "the worker got the impossible case"
+    );
+}
+
+#[test]
+fn a_thousand_random_changes_while_running() {
+    let mut h = harness(panel(true));
+    // A small deterministic generator: no dependency for one test.
+    let mut state = 0x2545_f491_4f6c_dd1d_u64;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let started = Instant::now();
+    let mut furthest: f64 = 0.0;
+    let mut frames = 0;
+    for k in 0..1000 {
+        let r = next();
+        let p = h.state_mut();
+        match (r * 8.0) as usize {
+            0 => p.controls.height_m = Some(0.01 + 0.3 * next()),
+            1 => p.controls.period_s = Some(0.5 + 4.0 * next()),
+            2 => p.controls.slope = Some(0.02 + 0.5 * next()),
+            3 => p.controls.alpha = 1.05 + 0.6 * next(),
+            4 => p.controls.spacing_m = if next() < 0.5 { 0.05 } else { 0.06 },
+            5 => p.worker.send(surflab::lab::worker::Command::Pause),
+            6 => p.worker.send(surflab::lab::worker::Command::Run),
+            _ => p.reset(),
+        }
+        if k % 10 == 0 {
+            h.state_mut().apply();
+        }
+        h.step();
+        // Give the worker time to step between changes.
+        std::thread::sleep(Duration::from_millis(3));
+        furthest = furthest.max(h.state().worker.status.t_s);
+        frames = frames.max(h.state().worker.status.frames);
+    }
+    // The worker must still answer: pause it and see the status come back.
+    h.state().worker.send(surflab::lab::worker::Command::Pause);
+    wait_for(
+        &mut h,
+        60.0,
+        "the worker to answer after 1 000 changes",
+        |p| !p.worker.status.running && p.worker.alive(),
+    );
+    println!(
+        "1 000 changes in {:.1} s; furthest t = {furthest:.3} s, up to {frames} frames between resets; now t = {:.3} s, {} particles, error: {:?}",
+        started.elapsed().as_secs_f64(),
+        h.state().worker.status.t_s,
+        h.state().worker.status.particles,
+        h.state().worker.status.error
+    );
+    assert!(furthest > 0.0, "the worker never advanced");
+}

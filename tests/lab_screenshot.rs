@@ -1,0 +1,67 @@
+//! The real lab window, screenshotted: `surflab lab CASE --screenshot PATH --after S` must open
+//! the window (under Xvfb when there is no display: CI installs xvfb and mesa's Vulkan driver),
+//! run the solver, save a PNG and exit; the PNG must not be blank.
+#![cfg(feature = "lab")]
+
+use std::process::Command;
+
+#[test]
+fn the_real_window_saves_a_screenshot_that_is_not_blank() {
+    let out = std::env::temp_dir().join(format!("surflab_window_{}.png", std::process::id()));
+    let _ = std::fs::remove_file(&out);
+    let exe = env!("CARGO_BIN_EXE_surflab");
+    let case = concat!(env!("CARGO_MANIFEST_DIR"), "/cases/teaching_beach.toml");
+    let rrd = std::env::temp_dir().join("surflab_window.rrd");
+    let args = [
+        "lab",
+        case,
+        "--screenshot",
+        out.to_str().unwrap(),
+        "--after",
+        "0.3",
+        "--record-to",
+        rrd.to_str().unwrap(),
+    ];
+    let has_display = std::env::var_os("DISPLAY").is_some_and(|d| !d.is_empty());
+    let mut cmd = if has_display {
+        Command::new(exe)
+    } else {
+        // No display: run the window on a virtual one.
+        let mut c = Command::new("xvfb-run");
+        c.args(["-a", "-s", "-screen 0 1600x1000x24", exe]);
+        c
+    };
+    let started = std::time::Instant::now();
+    let status = cmd
+        .args(args)
+        .status()
+        .expect("run surflab lab (without a display this needs xvfb-run: bash .ci/setup)");
+    println!(
+        "surflab lab exited with {status} after {:.1} s",
+        started.elapsed().as_secs_f64()
+    );
+    assert!(status.success(), "the lab window failed: {status}");
+    let img = image::open(&out)
+        .unwrap_or_else(|e| panic!("{}: {e}", out.display()))
+        .to_rgba8();
+    let (w, h) = img.dimensions();
+    let mut colors = std::collections::HashSet::new();
+    let (mut sum, mut sum2) = (0.0f64, 0.0f64);
+    for p in img.pixels() {
+        colors.insert(p.0);
+        let l = 0.299 * p.0[0] as f64 + 0.587 * p.0[1] as f64 + 0.114 * p.0[2] as f64;
+        sum += l;
+        sum2 += l * l;
+    }
+    let n = (w * h) as f64;
+    let std = (sum2 / n - (sum / n).powi(2)).max(0.0).sqrt();
+    println!(
+        "screenshot {w}×{h}: {} distinct colours, luminance std {std:.1}",
+        colors.len()
+    );
+    assert!(w >= 800 && h >= 500, "window too small: {w}×{h}");
+    // A blank or single-colour window has a handful of colours and no contrast; the viewer
+    // with the panel and coloured particles has hundreds and a luminance spread of tens.
+    assert!(colors.len() >= 200, "only {} colours", colors.len());
+    assert!(std >= 10.0, "luminance std {std:.1}");
+}
