@@ -133,7 +133,13 @@ struct Worker {
     frame_budget: Duration,
     last_timings: Option<StageTimings>,
     rtf_window: (f64, f64),
+    /// When the last frame was logged: frames go to the viewer at most every `LOG_INTERVAL`.
+    last_logged: Option<Instant>,
 }
+
+/// Shortest wall time between two logged frames (about 16 frames of data per second): the
+/// viewer ingests less, and the window stays smoother.
+const LOG_INTERVAL: Duration = Duration::from_millis(60);
 
 impl Worker {
     fn new(
@@ -153,6 +159,7 @@ impl Worker {
             frame_budget,
             last_timings: None,
             rtf_window: (0.0, 0.0),
+            last_logged: None,
         };
         w.reset(case);
         w
@@ -220,7 +227,11 @@ impl Worker {
         self.last_timings = None;
         self.rtf_window = (0.0, 0.0);
         match Simulation::new(&self.case) {
-            Ok(sim) => self.sim = Some(sim),
+            Ok(mut sim) => {
+                // One core for the solver, the other for the window.
+                sim.solver.params.parallel_symbolic = false;
+                self.sim = Some(sim);
+            }
             Err(e) => {
                 self.sim = None;
                 self.status.error = Some(format!("cannot set up the case: {e}"));
@@ -344,11 +355,15 @@ impl Worker {
             }
         }
         self.status.steps_per_frame = steps;
+        let stopped = failure.is_some();
         if let Some(f) = failure {
             self.status.error = Some(f);
             self.status.running = false;
         }
-        self.log();
+        let due = self.last_logged.is_none_or(|t| t.elapsed() >= LOG_INTERVAL);
+        if due || stopped || max_steps != usize::MAX {
+            self.log();
+        }
         self.report();
     }
 
@@ -370,6 +385,7 @@ impl Worker {
         }
         self.status.volume_ratio = m.volume_m2 / sim.initial_volume_m2;
         self.status.frames += 1;
+        self.last_logged = Some(Instant::now());
     }
 
     fn report(&mut self) {

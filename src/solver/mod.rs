@@ -56,6 +56,8 @@ pub struct SolverParams {
     pub absorber: Option<(f64, f64, f64)>,
     /// Global volume correction on the free surface (see `volume.rs`).
     pub volume_recovery: bool,
+    /// Run the symbolic Cholesky analysis on a second thread (off: one core only).
+    pub parallel_symbolic: bool,
 }
 
 impl SolverParams {
@@ -99,6 +101,7 @@ impl SolverParams {
             adaptive_dt: time.dt_policy == DtPolicy::Cfl,
             absorber: None,
             volume_recovery: s.volume_recovery,
+            parallel_symbolic: true,
         }
     }
 }
