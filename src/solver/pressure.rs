@@ -243,13 +243,14 @@ impl Solver {
         sys.symbolic = None;
         self.symbolic_job = None;
         let m = sys.unknowns();
-        if self.params.pressure_solver == PressureSolver::Cholesky && m > 0 {
-            if self.params.parallel_symbolic {
-                let (row_ptr, col) = (sys.row_ptr.clone(), sys.col.clone());
-                self.symbolic_job = Some(std::thread::spawn(move || analyse(m, &row_ptr, &col)));
-            }
-            // Otherwise (one core only: the lab leaves the other to the window) the solve
-            // analyses the pattern itself.
+        // With one core only (the lab leaves the other to the window) the solve analyses
+        // the pattern itself.
+        if self.params.pressure_solver == PressureSolver::Cholesky
+            && m > 0
+            && self.params.parallel_symbolic
+        {
+            let (row_ptr, col) = (sys.row_ptr.clone(), sys.col.clone());
+            self.symbolic_job = Some(std::thread::spawn(move || analyse(m, &row_ptr, &col)));
         }
     }
 
