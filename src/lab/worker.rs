@@ -313,7 +313,7 @@ impl Worker {
                 match sim.step_towards(until.min(sim.time_s + 1.0)) {
                     Ok(r) => {
                         steps += 1;
-                        add(&mut sum, &r.timings);
+                        sum = sum.zip_with(&r.timings, |a, b| a + b);
                     }
                     Err(e) => {
                         return Err(format!(
@@ -378,7 +378,7 @@ impl Worker {
             names.iter().map(String::as_str).zip(values).collect();
         let timings = self.last_timings.map(|t| {
             let n = self.status.steps_per_frame.max(1) as f64;
-            scale(&t, 1.0 / n)
+            t.zip_with(&t, |a, _| a / n)
         });
         if let Err(e) = log_frame(logger, sim, &m, timings.as_ref(), &gauges, false) {
             self.status.error = Some(format!("recording failed: {e}"));
@@ -402,31 +402,5 @@ impl Worker {
         };
         self.status.case_name = self.case.name.clone();
         let _ = self.status_tx.send(self.status.clone());
-    }
-}
-
-fn add(sum: &mut StageTimings, t: &StageTimings) {
-    sum.nodes_ms += t.nodes_ms;
-    sum.remesh_ms += t.remesh_ms;
-    sum.alpha_shape_ms += t.alpha_shape_ms;
-    sum.elements_ms += t.elements_ms;
-    sum.predict_ms += t.predict_ms;
-    sum.assemble_ms += t.assemble_ms;
-    sum.pressure_solve_ms += t.pressure_solve_ms;
-    sum.correct_ms += t.correct_ms;
-    sum.move_ms += t.move_ms;
-}
-
-fn scale(t: &StageTimings, f: f64) -> StageTimings {
-    StageTimings {
-        nodes_ms: t.nodes_ms * f,
-        remesh_ms: t.remesh_ms * f,
-        alpha_shape_ms: t.alpha_shape_ms * f,
-        elements_ms: t.elements_ms * f,
-        predict_ms: t.predict_ms * f,
-        assemble_ms: t.assemble_ms * f,
-        pressure_solve_ms: t.pressure_solve_ms * f,
-        correct_ms: t.correct_ms * f,
-        move_ms: t.move_ms * f,
     }
 }

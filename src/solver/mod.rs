@@ -148,6 +148,21 @@ impl StageTimings {
     pub fn total_ms(&self) -> f64 {
         self.named().iter().map(|(_, v)| v).sum()
     }
+
+    /// Stage by stage, `f(self, other)` (for sums and means over steps).
+    pub fn zip_with(&self, other: &StageTimings, f: impl Fn(f64, f64) -> f64) -> StageTimings {
+        StageTimings {
+            nodes_ms: f(self.nodes_ms, other.nodes_ms),
+            remesh_ms: f(self.remesh_ms, other.remesh_ms),
+            alpha_shape_ms: f(self.alpha_shape_ms, other.alpha_shape_ms),
+            elements_ms: f(self.elements_ms, other.elements_ms),
+            predict_ms: f(self.predict_ms, other.predict_ms),
+            assemble_ms: f(self.assemble_ms, other.assemble_ms),
+            pressure_solve_ms: f(self.pressure_solve_ms, other.pressure_solve_ms),
+            correct_ms: f(self.correct_ms, other.correct_ms),
+            move_ms: f(self.move_ms, other.move_ms),
+        }
+    }
 }
 
 /// What one step did.
