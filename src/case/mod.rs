@@ -483,17 +483,7 @@ impl Case {
 
     /// Bed height under `x_m`, linear between the `flume.bed_m` points (0 for a flat floor).
     pub fn bed_y_at(&self, x_m: f64) -> f64 {
-        let bed = self.flume.bed_points();
-        if x_m <= bed[0][0] {
-            return bed[0][1];
-        }
-        for w in bed.windows(2) {
-            if x_m <= w[1][0] {
-                let s = (x_m - w[0][0]) / (w[1][0] - w[0][0]);
-                return w[0][1] + s * (w[1][1] - w[0][1]);
-            }
-        }
-        bed[bed.len() - 1][1]
+        polyline_y(&self.flume.bed_points(), x_m)
     }
 
     /// Still-water depth in front of the paddle (level above the bed at its rest position), m.
@@ -866,6 +856,21 @@ impl Case {
         }
         Ok(())
     }
+}
+
+/// y of a polyline `[x, y]` (x increasing, at least one point) at `x_m`, linear between the
+/// points and constant beyond the ends: the bed height, here and in `geometry`.
+pub fn polyline_y(points: &[[f64; 2]], x_m: f64) -> f64 {
+    if x_m <= points[0][0] {
+        return points[0][1];
+    }
+    for w in points.windows(2) {
+        if x_m <= w[1][0] {
+            let s = (x_m - w[0][0]) / (w[1][0] - w[0][0]);
+            return w[0][1] + s * (w[1][1] - w[0][1]);
+        }
+    }
+    points[points.len() - 1][1]
 }
 
 /// " (line L)" for a byte span of `text`, or nothing.

@@ -25,7 +25,7 @@ pub struct Flume {
     pub outline: Vec<Vector2<f64>>,
     pub segments: Vec<Segment>,
     /// Bed polyline from x = 0 to x = length (at least two points).
-    pub bed: Vec<Vector2<f64>>,
+    pub bed: Vec<[f64; 2]>,
     /// The paddle face at the end of the current step, when there is a wavemaker (for the guard).
     pub paddle: Option<PaddleFace>,
     /// The paddle face at the start of the current step (for the mesh: nothing behind it is water).
@@ -66,13 +66,9 @@ impl PaddleFace {
 impl Flume {
     pub fn from_case(case: &Case) -> Flume {
         let f = &case.flume;
-        let bed: Vec<Vector2<f64>> = f
-            .bed_points()
-            .iter()
-            .map(|p| Vector2::new(p[0], p[1]))
-            .collect();
+        let bed = f.bed_points();
         let mut outline = vec![Vector2::new(0.0, f.height_m)];
-        outline.extend(bed.iter().copied());
+        outline.extend(bed.iter().map(|p| Vector2::new(p[0], p[1])));
         outline.push(Vector2::new(f.length_m, f.height_m));
         let segments = outline
             .windows(2)
@@ -99,17 +95,7 @@ impl Flume {
 
     /// Bed height y_b(x), linear between the bed points, clamped at the ends.
     pub fn bed_y(&self, x: f64) -> f64 {
-        let bed = &self.bed;
-        if x <= bed[0].x {
-            return bed[0].y;
-        }
-        for w in bed.windows(2) {
-            if x <= w[1].x {
-                let s = (x - w[0].x) / (w[1].x - w[0].x);
-                return w[0].y + s * (w[1].y - w[0].y);
-            }
-        }
-        bed[bed.len() - 1].y
+        crate::case::polyline_y(&self.bed, x)
     }
 
     /// Smallest distance from `p` to the solid outline.
