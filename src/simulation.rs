@@ -29,6 +29,20 @@ pub struct Simulation {
     pub initial_volume_m2: f64,
     /// The paddle, when the case has a wavemaker.
     pub wavemaker: Option<Wavemaker>,
+    /// Where the water area went since t = 0.
+    pub area_budget: AreaBudget,
+}
+
+/// Sums of the per-step area changes the solver reports, m² per metre of width (signed: a
+/// loss is negative). Their total is the volume drift V − V₀.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct AreaBudget {
+    /// Triangles the α-shape added or removed when the nodes were re-triangulated.
+    pub remesh_m2: f64,
+    /// The moves of the nodes within a step (the discrete divergence of the velocity).
+    pub motion_m2: f64,
+    /// What `solver.volume_recovery` put back.
+    pub recovered_m2: f64,
 }
 
 impl Simulation {
@@ -73,6 +87,8 @@ impl Simulation {
         solver.remesh(&particles, &flume)?;
         let initial_volume_m2 = solver.mesh.area(&particles.position);
         solver.volume_target_m2 = Some(initial_volume_m2);
+        // The first step's remeshing change is measured against this mesh.
+        solver.moved_area = Some(initial_volume_m2);
         Ok(Simulation {
             case: case.clone(),
             flume,
@@ -82,6 +98,7 @@ impl Simulation {
             steps: 0,
             initial_volume_m2,
             wavemaker,
+            area_budget: AreaBudget::default(),
         })
     }
 
@@ -126,6 +143,9 @@ impl Simulation {
             w.snap(&mut self.particles, self.time_s);
         }
         self.steps += 1;
+        self.area_budget.remesh_m2 += report.remesh_area_change_m2;
+        self.area_budget.motion_m2 += report.motion_area_change_m2;
+        self.area_budget.recovered_m2 += report.recovered_area_m2;
         Ok(report)
     }
 

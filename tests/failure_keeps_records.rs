@@ -38,3 +38,18 @@ fn nan_stops_the_run_and_keeps_what_was_recorded() {
     println!("run.rrd: {messages} messages");
     assert!(messages > 0);
 }
+
+/// A finite but absurd velocity also stops the run: here the limit is lowered to 1 mm/s so
+/// that the dam break, which falls at 1 m/s within 0.1 s, meets it.
+#[test]
+fn divergence_stops_the_run_with_its_reason() {
+    let case = common::case("dam_break.toml", &["particles.spacing_m=0.01"]);
+    let mut sim = surflab::simulation::Simulation::new(&case).unwrap();
+    let default_limit = sim.solver.params.speed_limit_m_s;
+    println!("speed limit of the dam-break flume: {default_limit:.1} m/s");
+    assert!(default_limit > 10.0 && default_limit.is_finite());
+    sim.solver.params.speed_limit_m_s = 1e-3;
+    let err = sim.advance_to(0.1, |_, _| {}).unwrap_err();
+    println!("{err}");
+    assert!(err.to_string().starts_with("diverged: a particle reached"));
+}

@@ -325,6 +325,11 @@ pub struct SolverSettings {
     /// Put the water area lost since t = 0 back on the free surface every step (Kratos'
     /// PFEM-Fluid correction; see `solver/volume.rs`). Off by default: it hides the loss.
     pub volume_recovery: bool,
+    /// Ask the continuity equation for the divergence that keeps each triangle's area through
+    /// the move x ← x + Δt u: ∇·u = −Δt det ∇u, not 0 (see `solver/pressure.rs`). Without it,
+    /// the straight-line move shrinks every element whose flow strains it (det ∇u < 0, as in
+    /// irrotational wave motion) by Δt² |det ∇u| A per step.
+    pub area_correction: bool,
 }
 
 impl Default for SolverSettings {
@@ -343,6 +348,7 @@ impl Default for SolverSettings {
             insert_radius_h: 0.9,
             remove_distance_h: 0.35,
             volume_recovery: false,
+            area_correction: false,
         }
     }
 }

@@ -1,11 +1,13 @@
 //! `timeseries.csv`: one row per output time, flushed as it is written so that a run that
-//! stops early leaves a readable file.
+//! stops early leaves a readable file. The last three columns are the volume budget since
+//! t = 0 (m², signed): area changed by remeshing, by the motion of the nodes, and put back by
+//! the volume recovery; with the initial volume they add up to `volume_m2`.
 
 use crate::diagnostics::Integrals;
 use std::io::Write;
 use std::path::Path;
 
-pub const HEADER: &str = "t_s,volume_m2,volume_ratio,kinetic_energy_j_per_m,max_speed_m_s,front_x_m,left_wall_height_m,fluid_particles,isolated_particles,steps,dt_s";
+pub const HEADER: &str = "t_s,volume_m2,volume_ratio,kinetic_energy_j_per_m,max_speed_m_s,front_x_m,left_wall_height_m,fluid_particles,isolated_particles,steps,dt_s,remesh_area_change_m2,motion_area_change_m2,recovered_area_m2";
 
 pub struct TimeseriesWriter {
     file: std::io::BufWriter<std::fs::File>,
@@ -28,7 +30,7 @@ impl TimeseriesWriter {
     ) -> std::io::Result<()> {
         writeln!(
             self.file,
-            "{:.6},{:.8e},{:.8},{:.6e},{:.6e},{:.6},{:.6},{},{},{},{:.4e}",
+            "{:.6},{:.8e},{:.8},{:.6e},{:.6e},{:.6},{:.6},{},{},{},{:.4e},{:.6e},{:.6e},{:.6e}",
             m.t_s,
             m.volume_m2,
             m.volume_m2 / initial_volume_m2,
@@ -39,7 +41,10 @@ impl TimeseriesWriter {
             m.fluid_particles,
             m.isolated_particles,
             steps,
-            dt_s
+            dt_s,
+            m.remesh_area_change_m2,
+            m.motion_area_change_m2,
+            m.recovered_area_m2
         )?;
         self.file.flush()
     }

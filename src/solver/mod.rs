@@ -56,6 +56,11 @@ pub struct SolverParams {
     pub absorber: Option<(f64, f64, f64)>,
     /// Global volume correction on the free surface (see `volume.rs`).
     pub volume_recovery: bool,
+    /// Continuity asks for ∇·u = −Δt det ∇ũ so the move keeps element areas.
+    pub area_correction: bool,
+    /// A fluid speed above this stops the run as diverged, m/s (ten times the speed of a fall
+    /// from the top of the flume, sqrt(2 g H)).
+    pub speed_limit_m_s: f64,
     /// Run the symbolic Cholesky analysis on a second thread (off: one core only).
     pub parallel_symbolic: bool,
 }
@@ -63,6 +68,7 @@ pub struct SolverParams {
 impl SolverParams {
     pub fn from_case(case: &Case) -> SolverParams {
         let mut p = Self::resolve(&case.fluid, &case.particles, &case.solver, &case.time);
+        p.speed_limit_m_s = 10.0 * (2.0 * case.fluid.gravity_m_s2 * case.flume.height_m).sqrt();
         p.absorber = case.absorber.as_ref().map(|a| {
             (
                 case.flume.length_m - a.length_m,
@@ -100,7 +106,9 @@ impl SolverParams {
             dt_min_s: time.dt_min_s,
             adaptive_dt: time.dt_policy == DtPolicy::Cfl,
             absorber: None,
+            speed_limit_m_s: f64::INFINITY,
             volume_recovery: s.volume_recovery,
+            area_correction: s.area_correction,
             parallel_symbolic: true,
         }
     }
@@ -209,6 +217,15 @@ pub enum StepError {
     Pressure(String),
     #[error("elements still invert with Δt = {dt_s:.3e} s, the smallest allowed step")]
     Inverted { dt_s: f64 },
+    #[error(
+        "diverged: a particle reached {speed_m_s:.3e} m/s at x = {x:.4} m, y = {y:.4} m, beyond the {limit_m_s:.3} m/s no flow in this flume can reach"
+    )]
+    Diverged {
+        speed_m_s: f64,
+        limit_m_s: f64,
+        x: f64,
+        y: f64,
+    },
 }
 
 /// Scratch buffers reused from step to step.
@@ -233,7 +250,7 @@ pub struct Solver {
     pi_new: Vec<Vector2<f64>>,
     dirichlet: Vec<bool>,
     /// Area of the last step's mesh after its move (`None` before the first step).
-    moved_area: Option<f64>,
+    pub(crate) moved_area: Option<f64>,
     /// The water area to keep when `volume_recovery` is on (the initial one), m².
     pub volume_target_m2: Option<f64>,
     pressure: PressureSystem,

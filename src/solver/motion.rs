@@ -1,4 +1,5 @@
-//! Stage `move`: commit uⁿ⁺¹, pⁿ⁺¹ and π, move the fluid particles, x ← x + Δt uⁿ⁺¹ (thesis
+//! Stage `move`: commit uⁿ⁺¹, pⁿ⁺¹ and π (stopping the run if a velocity is not finite or
+//! beyond the speed limit), move the fluid particles, x ← x + Δt uⁿ⁺¹ (thesis
 //! eq. 2.59), and put back any particle that came closer to the solid than the wall margin
 //! (method.md §2 (c)–(d)), removing its velocity into the wall. Also the inversion check that
 //! lets the step halve Δt. In a damping layer (`absorber`), fluid velocities are first
@@ -53,6 +54,16 @@ impl Solver {
                 return Err(StepError::NonFinite {
                     quantity: "velocity",
                     node: i,
+                    x: x.x,
+                    y: x.y,
+                });
+            }
+            let speed = u.norm();
+            if speed > self.params.speed_limit_m_s {
+                let x = particles.position[i];
+                return Err(StepError::Diverged {
+                    speed_m_s: speed,
+                    limit_m_s: self.params.speed_limit_m_s,
                     x: x.x,
                     y: x.y,
                 });

@@ -4,10 +4,17 @@
 //! (Δt/ρ L + L_τ) pⁿ⁺¹ = −D ũ + γ (Δt/ρ) L pⁿ − Q πⁿ,
 //!
 //! with, per element, L_ij = A b_i·b_j, L_τ,ij = τ_e A b_i·b_j, (D ũ)_i = (A/3) ∇·ũ and
-//! (Q π)_i = τ_e A b_i·π̄. Since L_τ p + Q π = Σ τ_e A b_i·(∇p + π̄) and π ≈ −∇p, the
-//! stabilisation vanishes where the pressure gradient is smooth (hydrostatic water included).
-//! p = 0 is imposed strongly on free-surface and isolated nodes; wall nodes are unknowns. The
-//! matrix is symmetric positive definite and assembled straight into CSR from the mesh.
+//! (Q π)_i = τ_e A b_i·π̄. With `area_correction`, ∇·ũ in D ũ becomes ∇·ũ + Δt det ∇ũ: the
+//! move x ← x + Δt u maps a triangle of area A to one of area A (1 + Δt ∇·u + Δt² det ∇u), so
+//! asking for ∇·u = −Δt det ∇u keeps it, where ∇·u = 0 would lose Δt² |det ∇u| A per step
+//! wherever the flow strains the element (det ∇u = −(∂ₓu)² − ∂_y u ∂ₓw < 0 for irrotational
+//! flow, so the loss is one-signed and grows with time).
+//!
+//! Since L_τ p + Q π = Σ τ_e A b_i·(∇p + π̄) and π ≈ −∇p, the stabilisation vanishes where
+//! the pressure gradient is smooth (hydrostatic water included). p = 0 is imposed strongly on
+//! free-surface nodes (contact points on walls included) and isolated nodes; the other wall
+//! nodes are unknowns. The matrix is symmetric positive definite and assembled straight into
+//! CSR from the mesh.
 //!
 //! The pattern and the Dirichlet set are known as soon as the α-shape is: `prepare_pressure`
 //! builds the pattern and, for the Cholesky solver, starts faer's symbolic analysis (the
@@ -16,6 +23,7 @@
 
 use super::{Solver, StepError};
 use crate::case::PressureSolver;
+use crate::fem;
 use crate::particles::Particles;
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
@@ -258,6 +266,7 @@ impl Solver {
     pub(super) fn assemble_pressure(&mut self, particles: &Particles, dt: f64) {
         let rho = self.params.density_kg_m3;
         let gamma = self.params.gamma;
+        let area_dt = if self.params.area_correction { dt } else { 0.0 };
         let mesh = &self.mesh;
         let sys = &mut self.pressure;
         let m = sys.unknowns();
@@ -281,7 +290,10 @@ impl Solver {
             let idx = t.map(|i| i as usize);
             let tau = self.tau_e[k];
             let c = (dt / rho + tau) * e.area;
-            let div_u: f64 = (0..3).map(|a| e.grad[a].dot(&u_t[idx[a]])).sum();
+            let grad_u = fem::velocity_gradient(e, idx.map(|i| u_t[i]));
+            // Moving the nodes by Δt u changes the area by Δt A ∇·u + Δt² A det ∇u; with
+            // the correction, the equation asks for the divergence that cancels both.
+            let div_u = grad_u.trace() + area_dt * grad_u.determinant();
             let grad_p: Vector2<f64> = (0..3).map(|a| e.grad[a] * p_old[idx[a]]).sum();
             let pi_mean = (pi_old[idx[0]] + pi_old[idx[1]] + pi_old[idx[2]]) / 3.0;
             let flux = gamma * (dt / rho) * grad_p - tau * pi_mean;

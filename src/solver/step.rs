@@ -89,7 +89,7 @@ impl Solver {
         let area_after_move = self.mesh.area(&particles.position);
         let recovered = match self.volume_target_m2 {
             Some(target) if self.params.volume_recovery => timed(&mut t.move_ms, || {
-                self.recover_volume(particles, area_after_move, target)
+                self.recover_volume(particles, flume, area_after_move, target)
             }),
             _ => 0.0,
         };
