@@ -38,18 +38,7 @@ pub fn integrals(sim: &Simulation) -> Integrals {
             mass[i as usize] += rho * a;
         }
     }
-    let (label, count) = mesh.components(n);
-    let mut size = vec![0usize; count];
-    for i in 0..n {
-        if p.is_fluid(i) && label[i] != u32::MAX {
-            size[label[i] as usize] += 1;
-        }
-    }
-    let main = size
-        .iter()
-        .enumerate()
-        .max_by_key(|(_, s)| **s)
-        .map(|(c, _)| c as u32);
+    let (label, main) = mesh.main_body(p);
     let h = sim.case.particles.spacing_m;
     let mut out = Integrals {
         t_s: sim.time_s,

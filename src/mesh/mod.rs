@@ -281,6 +281,24 @@ impl Mesh {
         }
         (label, count as usize)
     }
+
+    /// The component labels of [`Mesh::components`] and the label of the main body of water,
+    /// the component with the most fluid nodes (`None` when no fluid node is in the mesh).
+    pub fn main_body(&self, particles: &Particles) -> (Vec<u32>, Option<u32>) {
+        let n = particles.len();
+        let (label, count) = self.components(n);
+        let mut size = vec![0usize; count];
+        for i in 0..n {
+            if particles.is_fluid(i) && label[i] != u32::MAX {
+                size[label[i] as usize] += 1;
+            }
+        }
+        let main = (0..count)
+            .filter(|&c| size[c] > 0)
+            .max_by_key(|&c| size[c])
+            .map(|c| c as u32);
+        (label, main)
+    }
 }
 
 #[cfg(test)]

@@ -32,17 +32,10 @@ impl Solver {
         target_m2: f64,
     ) -> f64 {
         let n = particles.len();
-        let (label, count) = self.mesh.components(n);
-        let mut size = vec![0usize; count];
-        for i in 0..n {
-            if particles.is_fluid(i) && label[i] != u32::MAX {
-                size[label[i] as usize] += 1;
-            }
-        }
-        let Some(main) = (0..count).max_by_key(|&c| size[c]) else {
+        let (label, main) = self.mesh.main_body(particles);
+        let Some(main) = main else {
             return 0.0;
         };
-        let main = main as u32;
         let x = &particles.position;
         let mut normal = vec![Vector2::<f64>::zeros(); n];
         let mut length = 0.0;
