@@ -35,7 +35,7 @@ pub struct Simulation {
 
 /// Sums of the per-step area changes the solver reports, m² per metre of width (signed: a
 /// loss is negative). Their total is the volume drift V − V₀.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
 pub struct AreaBudget {
     /// Triangles the α-shape added or removed when the nodes were re-triangulated.
     pub remesh_m2: f64,

@@ -1,6 +1,6 @@
 //! Observers that read the state after a step: integral quantities and simple probes.
 
-use crate::simulation::Simulation;
+use crate::simulation::{AreaBudget, Simulation};
 use nalgebra::Vector2;
 
 /// Integral and extreme values of the water at one instant.
@@ -18,11 +18,8 @@ pub struct Integrals {
     pub left_wall_height_m: f64,
     pub fluid_particles: usize,
     pub isolated_particles: usize,
-    /// Where the volume went since t = 0 (m², signed): area the α-shape added or removed at
-    /// remeshing, area the moves of the nodes changed, and area the volume recovery put back.
-    pub remesh_area_change_m2: f64,
-    pub motion_area_change_m2: f64,
-    pub recovered_area_m2: f64,
+    /// Where the volume went since t = 0.
+    pub area_budget: AreaBudget,
 }
 
 /// Measures [`Integrals`] from the last mesh of the simulation.
@@ -45,9 +42,7 @@ pub fn integrals(sim: &Simulation) -> Integrals {
         volume_m2: mesh.area(&p.position),
         front_x_m: f64::NAN,
         left_wall_height_m: f64::NAN,
-        remesh_area_change_m2: sim.area_budget.remesh_m2,
-        motion_area_change_m2: sim.area_budget.motion_m2,
-        recovered_area_m2: sim.area_budget.recovered_m2,
+        area_budget: sim.area_budget,
         ..Default::default()
     };
     let mut front = f64::NEG_INFINITY;

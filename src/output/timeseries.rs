@@ -42,9 +42,9 @@ impl TimeseriesWriter {
             m.isolated_particles,
             steps,
             dt_s,
-            m.remesh_area_change_m2,
-            m.motion_area_change_m2,
-            m.recovered_area_m2
+            m.area_budget.remesh_m2,
+            m.area_budget.motion_m2,
+            m.area_budget.recovered_m2
         )?;
         self.file.flush()
     }
