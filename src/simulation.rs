@@ -105,8 +105,11 @@ impl Simulation {
     /// The Δt the policy asks for, shortened so that the step lands on `until_s`.
     pub fn next_dt(&self, until_s: f64) -> f64 {
         let t = &self.case.time;
+        let surface_dt =
+            t.surface_wave_dt_s(self.case.particles.spacing_m, self.case.fluid.gravity_m_s2);
         let dt = match t.dt_policy {
-            DtPolicy::Fixed => t.dt_max_s,
+            // Equal substeps, so the steps still land on multiples of the fixed Δt.
+            DtPolicy::Fixed => t.dt_max_s / (t.dt_max_s / surface_dt).ceil().max(1.0),
             DtPolicy::Cfl => {
                 let u_max = (0..self.particles.len())
                     .filter(|&i| self.particles.is_fluid(i))
@@ -114,7 +117,7 @@ impl Simulation {
                     .fold(0.0, f64::max)
                     .sqrt();
                 let cfl_dt = t.cfl * self.case.particles.spacing_m / u_max.max(1e-12);
-                cfl_dt.clamp(t.dt_min_s, t.dt_max_s)
+                cfl_dt.min(surface_dt).clamp(t.dt_min_s, t.dt_max_s)
             }
         };
         let remaining = until_s - self.time_s;

@@ -113,3 +113,25 @@ fn an_impossible_wave_is_refused_with_the_field() {
     println!("{err}");
     assert!(err.to_string().contains("wavemaker.paddle"), "{err}");
 }
+
+/// The fixed Δt of the flap cases (T/100) is split into equal substeps under the surface-wave
+/// bound, so the steps still land on the paddle's extremes.
+#[test]
+fn fixed_step_is_split_under_the_surface_wave_bound() {
+    let case = common::case("flap_deep_water.toml", &[]);
+    let bound = case
+        .time
+        .surface_wave_dt_s(case.particles.spacing_m, case.fluid.gravity_m_s2);
+    let sim = Simulation::new(&case).unwrap();
+    let dt = sim.next_dt(1.0);
+    let parts = case.time.dt_max_s / dt;
+    println!(
+        "fixed Δt {:.2} ms, bound {:.3} ms: {parts:.6} substeps of {:.3} ms",
+        1e3 * case.time.dt_max_s,
+        1e3 * bound,
+        1e3 * dt
+    );
+    assert!(dt <= bound);
+    assert!((parts - parts.round()).abs() < 1e-9);
+    assert!(dt > 0.5 * bound, "no more substeps than needed");
+}

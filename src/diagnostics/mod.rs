@@ -88,7 +88,9 @@ pub fn hydrostatic_error(sim: &Simulation, y_m: f64, x_range_m: (f64, f64)) -> (
         .map(|i| p.position[i].y)
         .fold(f64::NEG_INFINITY, f64::max);
     let picked: Vec<usize> = (0..p.len())
-        .filter(|&i| band(i) && (p.position[i].y - y_m).abs() <= 0.5 * h)
+        // 0.75 h, not 0.5 h: on a lattice whose rows lie h/2 from y_m, round-off in the
+        // positions would decide which rows count.
+        .filter(|&i| band(i) && (p.position[i].y - y_m).abs() <= 0.75 * h)
         .collect();
     let err = picked
         .iter()

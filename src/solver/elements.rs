@@ -27,8 +27,10 @@ impl Solver {
         self.tau_mass.clear();
         self.tau_mass.resize(n, 0.0);
         self.p_old.clear();
+        let weak = self.params.weak_surface_length_m > 0.0;
         self.p_old.extend((0..n).map(|i| {
-            if self.mesh.free_surface[i] || !self.mesh.in_mesh[i] {
+            let pinned = self.mesh.free_surface[i] && !(weak && particles.is_fluid(i));
+            if pinned || !self.mesh.in_mesh[i] {
                 0.0
             } else {
                 particles.pressure[i]

@@ -58,6 +58,8 @@ pub struct SolverParams {
     pub volume_recovery: bool,
     /// Continuity asks for ∇·u = −Δt det ∇ũ so the move keeps element areas.
     pub area_correction: bool,
+    /// Robin length of the weak free-surface condition in m; 0 = strong p = 0.
+    pub weak_surface_length_m: f64,
     /// A fluid speed above this stops the run as diverged, m/s (ten times the speed of a fall
     /// from the top of the flume, sqrt(2 g H)).
     pub speed_limit_m_s: f64,
@@ -109,6 +111,7 @@ impl SolverParams {
             speed_limit_m_s: f64::INFINITY,
             volume_recovery: s.volume_recovery,
             area_correction: s.area_correction,
+            weak_surface_length_m: s.weak_surface_length_h * particles.spacing_m,
             parallel_symbolic: true,
         }
     }

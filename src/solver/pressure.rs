@@ -13,7 +13,11 @@
 //! Since L_τ p + Q π = Σ τ_e A b_i·(∇p + π̄) and π ≈ −∇p, the stabilisation vanishes where
 //! the pressure gradient is smooth (hydrostatic water included). p = 0 is imposed strongly on
 //! free-surface nodes (contact points on walls included) and isolated nodes; the other wall
-//! nodes are unknowns. The matrix is symmetric positive definite and assembled straight into
+//! nodes are unknowns. With `weak_surface_length_m` λ > 0, free-surface fluid nodes stay
+//! unknowns with their own continuity row and p = 0 holds weakly through the Robin term
+//! (Δt/ρ + τ_e) ℓ/(2λ) on the diagonal of both nodes of each free-surface edge of length ℓ.
+//! Strong p = 0 leaves the surface layer without a continuity equation, and there a 2h ripple
+//! grows out of round-off (README, *Surface ripple*); the weak form damps it. The matrix is symmetric positive definite and assembled straight into
 //! CSR from the mesh.
 //!
 //! The pattern and the Dirichlet set are known as soon as the α-shape is: `prepare_pressure`
@@ -232,10 +236,17 @@ impl Solver {
         let n = particles.len();
         let mesh = &self.mesh;
         // Dirichlet p = 0: free-surface nodes and nodes in no kept triangle.
+        // With the weak condition, free-surface fluid nodes stay unknowns (wall contact points
+        // keep p = 0).
+        let weak = self.params.weak_surface_length_m > 0.0;
         self.dirichlet.clear();
-        self.dirichlet
-            .extend((0..n).map(|i| mesh.free_surface[i] || !mesh.in_mesh[i]));
-        pin_sealed_components(mesh, particles, &mut self.dirichlet);
+        self.dirichlet.extend((0..n).map(|i| {
+            (mesh.free_surface[i] && !(weak && particles.is_fluid(i))) || !mesh.in_mesh[i]
+        }));
+        let anchored: Vec<bool> = (0..n)
+            .map(|i| self.dirichlet[i] || (mesh.free_surface[i] && mesh.in_mesh[i]))
+            .collect();
+        pin_sealed_components(mesh, particles, &anchored, &mut self.dirichlet);
 
         let sys = &mut self.pressure;
         sys.row_of_node.clear();
@@ -312,6 +323,45 @@ impl Solver {
                 }
             }
         }
+        self.add_weak_surface(particles, dt);
+    }
+
+    /// The weak free-surface condition: on each free-surface edge of length ℓ, the Robin term
+    /// (Δt/ρ + τ_e) ∫ N_i p / λ, lumped (ℓ/2 per node), so that the boundary flux of the
+    /// Poisson operator meets ∂p/∂n + p/λ = 0.
+    fn add_weak_surface(&mut self, particles: &Particles, dt: f64) {
+        let lambda = self.params.weak_surface_length_m;
+        if lambda <= 0.0 {
+            return;
+        }
+        let rho = self.params.density_kg_m3;
+        let mesh = &self.mesh;
+        let surface: std::collections::HashSet<(u32, u32)> = mesh
+            .boundary_edges
+            .iter()
+            .filter(|[a, b]| particles.is_fluid(*a as usize) || particles.is_fluid(*b as usize))
+            .map(|&[a, b]| (a.min(b), a.max(b)))
+            .collect();
+        let sys = &mut self.pressure;
+        for (k, t) in mesh.triangles.iter().enumerate() {
+            for j in 0..3 {
+                let (a, b) = (t[j], t[(j + 1) % 3]);
+                if !(mesh.free_surface[a as usize] && mesh.free_surface[b as usize]) {
+                    continue;
+                }
+                if !surface.contains(&(a.min(b), a.max(b))) {
+                    continue;
+                }
+                let len = (particles.position[a as usize] - particles.position[b as usize]).norm();
+                let w = (dt / rho + self.tau_e[k]) * len / (2.0 * lambda);
+                for i in [a, b] {
+                    let r = sys.row_of_node[i as usize];
+                    if r != NONE {
+                        sys.add(r as usize, r as usize, w);
+                    }
+                }
+            }
+        }
     }
 
     pub(super) fn solve_pressure(&mut self, particles: &Particles) -> Result<usize, StepError> {
@@ -349,7 +399,12 @@ impl Solver {
 /// A connected piece of the mesh with no free-surface node (water sealed by walls, or a
 /// pocket whose surface nodes are all wall nodes) would leave the pressure undetermined up to
 /// a constant: pin its highest node to p = 0.
-fn pin_sealed_components(mesh: &crate::mesh::Mesh, particles: &Particles, dirichlet: &mut [bool]) {
+fn pin_sealed_components(
+    mesh: &crate::mesh::Mesh,
+    particles: &Particles,
+    anchored: &[bool],
+    dirichlet: &mut [bool],
+) {
     let n = particles.len();
     let (label, count) = mesh.components(n);
     let mut has_dirichlet = vec![false; count];
@@ -360,7 +415,7 @@ fn pin_sealed_components(mesh: &crate::mesh::Mesh, particles: &Particles, dirich
             continue;
         }
         let c = c as usize;
-        if dirichlet[i] {
+        if anchored[i] {
             has_dirichlet[c] = true;
         }
         if top[c].is_none_or(|j| particles.position[i].y > particles.position[j].y) {

@@ -6,7 +6,7 @@
 //! 3. `elements`: areas, gradients, lumped mass, Smagorinsky μ_e, τ;
 //! 4. `predict`: ũ from momentum without the pressure increment;
 //! 5. `assemble` + `pressure_solve`: (Δt/ρ L + L_τ) pⁿ⁺¹ = −Dũ + γ(Δt/ρ)L pⁿ − Qπⁿ, p = 0 on the
-//!    free surface (the pattern is built right after the α-shape, so that its symbolic
+//!    free surface, strongly or weakly (the pattern is built right after the α-shape, so that its symbolic
 //!    factorisation runs on the second core during stages 3–5);
 //! 6. `correct`: uⁿ⁺¹ = ũ + Δt M⁻¹ Dᵀ(pⁿ⁺¹ − γpⁿ), and π from pⁿ⁺¹;
 //! 7. `move`: xⁿ⁺¹ = xⁿ + Δt uⁿ⁺¹ (thesis eq. 2.59), then the wall guard, then (optional)
