@@ -570,6 +570,13 @@ impl Case {
                 ))
             }
         };
+        let non_negative = |field: &str, v: f64| -> Result<(), (String, String)> {
+            if v.is_finite() && v >= 0.0 {
+                Ok(())
+            } else {
+                Err((field.to_owned(), format!("must be finite and ≥ 0, got {v}")))
+            }
+        };
         positive("fluid.density_kg_m3", self.fluid.density_kg_m3)?;
         positive("fluid.gravity_m_s2", self.fluid.gravity_m_s2)?;
         if !(self.fluid.viscosity_pa_s.is_finite() && self.fluid.viscosity_pa_s >= 0.0) {
@@ -730,12 +737,7 @@ impl Case {
                 format!("must lie in [0, 1], got {}", s.theta),
             );
         }
-        if !(s.smagorinsky_cs.is_finite() && s.smagorinsky_cs >= 0.0) {
-            return err(
-                "solver.smagorinsky_cs",
-                format!("must be ≥ 0, got {}", s.smagorinsky_cs),
-            );
-        }
+        non_negative("solver.smagorinsky_cs", s.smagorinsky_cs)?;
         positive("solver.cg_tolerance", s.cg_tolerance)?;
         if s.cg_max_iterations == 0 {
             return err("solver.cg_max_iterations", "must be at least 1".into());
@@ -771,18 +773,8 @@ impl Case {
         if !(t.cfl > 0.0 && t.cfl <= 1.0) {
             return err("time.cfl", format!("must lie in (0, 1], got {}", t.cfl));
         }
-        if !(s.weak_surface_length_h.is_finite() && s.weak_surface_length_h >= 0.0) {
-            return err(
-                "solver.weak_surface_length_h",
-                format!("must be finite and ≥ 0, got {}", s.weak_surface_length_h),
-            );
-        }
-        if !(t.surface_wave_courant.is_finite() && t.surface_wave_courant >= 0.0) {
-            return err(
-                "time.surface_wave_courant",
-                format!("must be finite and ≥ 0, got {}", t.surface_wave_courant),
-            );
-        }
+        non_negative("solver.weak_surface_length_h", s.weak_surface_length_h)?;
+        non_negative("time.surface_wave_courant", t.surface_wave_courant)?;
         positive("output.interval_s", self.output.interval_s)?;
         if let Some(x) = self
             .output
