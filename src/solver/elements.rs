@@ -26,16 +26,16 @@ impl Solver {
         self.mass.resize(n, 0.0);
         self.tau_mass.clear();
         self.tau_mass.resize(n, 0.0);
-        self.p_old.clear();
-        let weak = self.params.weak_surface_length_m > 0.0;
-        self.p_old.extend((0..n).map(|i| {
-            let pinned = self.mesh.free_surface[i] && !(weak && particles.is_fluid(i));
-            if pinned || !self.mesh.in_mesh[i] {
+        let mut p_old = std::mem::take(&mut self.p_old);
+        p_old.clear();
+        p_old.extend((0..n).map(|i| {
+            if self.surface_pinned(particles, i) || !self.mesh.in_mesh[i] {
                 0.0
             } else {
                 particles.pressure[i]
             }
         }));
+        self.p_old = p_old;
         for t in &self.mesh.triangles {
             let [a, b, c] = t.map(|i| i as usize);
             let e = fem::p1(x[a], x[b], x[c]);

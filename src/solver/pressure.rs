@@ -17,8 +17,8 @@
 //! unknowns with their own continuity row and p = 0 holds weakly through the Robin term
 //! (Δt/ρ + τ_e) ℓ/(2λ) on the diagonal of both nodes of each free-surface edge of length ℓ.
 //! Strong p = 0 leaves the surface layer without a continuity equation, and there a 2h ripple
-//! grows out of round-off (README, *Surface ripple*); the weak form damps it. The matrix is symmetric positive definite and assembled straight into
-//! CSR from the mesh.
+//! grows out of round-off (README, *Surface ripple*); the weak form damps it. The matrix is
+//! symmetric positive definite and assembled straight into CSR from the mesh.
 //!
 //! The pattern and the Dirichlet set are known as soon as the α-shape is: `prepare_pressure`
 //! builds the pattern and, for the Cholesky solver, starts faer's symbolic analysis (the
@@ -234,19 +234,14 @@ impl Solver {
     /// starts the symbolic analysis on a second thread.
     pub(super) fn prepare_pressure(&mut self, particles: &Particles) {
         let n = particles.len();
+        // Dirichlet p = 0: free-surface nodes held strongly and nodes in no kept triangle.
+        let mut dirichlet = std::mem::take(&mut self.dirichlet);
+        dirichlet.clear();
+        dirichlet
+            .extend((0..n).map(|i| self.surface_pinned(particles, i) || !self.mesh.in_mesh[i]));
+        pin_sealed_components(&self.mesh, particles, &mut dirichlet);
+        self.dirichlet = dirichlet;
         let mesh = &self.mesh;
-        // Dirichlet p = 0: free-surface nodes and nodes in no kept triangle.
-        // With the weak condition, free-surface fluid nodes stay unknowns (wall contact points
-        // keep p = 0).
-        let weak = self.params.weak_surface_length_m > 0.0;
-        self.dirichlet.clear();
-        self.dirichlet.extend((0..n).map(|i| {
-            (mesh.free_surface[i] && !(weak && particles.is_fluid(i))) || !mesh.in_mesh[i]
-        }));
-        let anchored: Vec<bool> = (0..n)
-            .map(|i| self.dirichlet[i] || (mesh.free_surface[i] && mesh.in_mesh[i]))
-            .collect();
-        pin_sealed_components(mesh, particles, &anchored, &mut self.dirichlet);
 
         let sys = &mut self.pressure;
         sys.row_of_node.clear();
@@ -326,6 +321,13 @@ impl Solver {
         self.add_weak_surface(particles, dt);
     }
 
+    /// Whether node `i` gets p = 0 strongly as a free-surface node: always with the strong
+    /// condition; with the weak one only wall contact points do (fluid nodes keep their row).
+    pub(super) fn surface_pinned(&self, particles: &Particles, i: usize) -> bool {
+        self.mesh.free_surface[i]
+            && !(self.params.weak_surface_length_m > 0.0 && particles.is_fluid(i))
+    }
+
     /// The weak free-surface condition: on each free-surface edge of length ℓ, the Robin term
     /// (Δt/ρ + τ_e) ∫ N_i p / λ, lumped (ℓ/2 per node), so that the boundary flux of the
     /// Poisson operator meets ∂p/∂n + p/λ = 0.
@@ -399,12 +401,8 @@ impl Solver {
 /// A connected piece of the mesh with no free-surface node (water sealed by walls, or a
 /// pocket whose surface nodes are all wall nodes) would leave the pressure undetermined up to
 /// a constant: pin its highest node to p = 0.
-fn pin_sealed_components(
-    mesh: &crate::mesh::Mesh,
-    particles: &Particles,
-    anchored: &[bool],
-    dirichlet: &mut [bool],
-) {
+/// A free-surface node held weakly anchors its piece as well (its Robin term).
+fn pin_sealed_components(mesh: &crate::mesh::Mesh, particles: &Particles, dirichlet: &mut [bool]) {
     let n = particles.len();
     let (label, count) = mesh.components(n);
     let mut has_dirichlet = vec![false; count];
@@ -415,7 +413,7 @@ fn pin_sealed_components(
             continue;
         }
         let c = c as usize;
-        if anchored[i] {
+        if dirichlet[i] || mesh.free_surface[i] {
             has_dirichlet[c] = true;
         }
         if top[c].is_none_or(|j| particles.position[i].y > particles.position[j].y) {
