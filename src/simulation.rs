@@ -79,6 +79,10 @@ impl Simulation {
             if level >= x.y - 1e-9 * h {
                 particles.pressure[i] = rho_g * (level - x.y).max(0.0);
                 particles.pressure_gradient_projection[i] = nalgebra::Vector2::new(0.0, rho_g);
+            } else if level >= x.y - h {
+                // A wall node less than h above the water line can belong to a kept triangle
+                // at the wall (a contact point): its π must match too.
+                particles.pressure_gradient_projection[i] = nalgebra::Vector2::new(0.0, rho_g);
             }
         }
         let mut solver = Solver::new(SolverParams::from_case(case));

@@ -3,8 +3,9 @@
 //! linear) and the stabilisation τ_e; per node the lumped mass m_i = ρ Σ A_e/3 (thesis eq. 2.22)
 //! and the τ-weighted mass Σ τ_e A_e/3 used by the pressure-gradient projection.
 //!
-//! It also sets the previous pressure the step splits against, pⁿ with p = 0 imposed on the
-//! current free surface and isolated nodes: a node that has just reached the surface would
+//! It also sets the previous pressure the step splits against, pⁿ with this step's Dirichlet
+//! values (p = 0 on the current free surface and isolated nodes, the hydrostatic value at wall
+//! contact points, see `pressure.rs`): a node that has just reached the surface would
 //! otherwise carry its old interior pressure into the increment pⁿ⁺¹ − γpⁿ, and the splitting
 //! error, which grows with that increment, would compress the water around it.
 
@@ -29,8 +30,8 @@ impl Solver {
         let mut p_old = std::mem::take(&mut self.p_old);
         p_old.clear();
         p_old.extend((0..n).map(|i| {
-            if self.surface_pinned(particles, i) || !self.mesh.in_mesh[i] {
-                0.0
+            if self.dirichlet[i] {
+                self.p_fixed[i]
             } else {
                 particles.pressure[i]
             }

@@ -245,13 +245,16 @@ pub struct Solver {
     /// Per node.
     mass: Vec<f64>,
     tau_mass: Vec<f64>,
-    /// pⁿ with p = 0 on the current free surface (see `elements.rs`).
+    /// pⁿ, with this step's Dirichlet values on its Dirichlet nodes (see `elements.rs`).
     p_old: Vec<f64>,
     u_tilde: Vec<Vector2<f64>>,
     u_new: Vec<Vector2<f64>>,
     p_new: Vec<f64>,
     pi_new: Vec<Vector2<f64>>,
     dirichlet: Vec<bool>,
+    /// The pressure of the Dirichlet nodes, Pa (0 but at wall contact points; see
+    /// `contact_pressure`).
+    p_fixed: Vec<f64>,
     /// Area of the last step's mesh after its move (`None` before the first step).
     pub(crate) moved_area: Option<f64>,
     /// The water area to keep when `volume_recovery` is on (the initial one), m².
