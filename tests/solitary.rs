@@ -7,7 +7,7 @@
 //! their peaks (each peak refined by a parabola through the three highest samples).
 //!
 //! Measured (2026-11-23): height −0.1 / −0.2 / −0.2 % at 5 / 10 / 15 d, celerity −1.5 %,
-//! volume −0.05 % by 6.3 s; about 70 s on two cores. It missed both bars before the weak
+//! volume −0.04 % by 6.3 s; about 70 s on two cores. It missed both bars before the weak
 //! surface condition and the Δt bound (−11.8 % and −2.6 %), and the celerity bar before the
 //! contact point on the paddle got its hydrostatic pressure (−1.6 % and −3.1 %).
 

@@ -1,8 +1,8 @@
 //! Stage `correct`: the end-of-step velocity (thesis eq. 2.8, method.md §1 step 3) and the
 //! pressure-gradient projection of the FIC stabilisation (step 4):
 //!
-//! uⁿ⁺¹_i = ũ_i − (Δt/m_i) Σ_e (A_e/3) ∇(pⁿ⁺¹ − γ pⁿ)_e   (nodes in the mesh; the gradient form,
-//! as in `predict.rs`; a slip wall node
+//! uⁿ⁺¹_i = ũ_i + (Δt/m_i) Σ_e A_e (p̄ⁿ⁺¹ − γ p̄ⁿ)_e b_i   (nodes in the mesh, less the traction
+//! on the edges that end at a wall contact point as in `predict.rs`; a slip wall node
 //! keeps only the part along its wall, a no-slip one none),
 //! π_i = −Σ_e τ_e (A_e/3) ∇pⁿ⁺¹_e / Σ_e τ_e (A_e/3).
 //!
@@ -24,16 +24,21 @@ impl Solver {
         for (k, t) in self.mesh.triangles.iter().enumerate() {
             let e = &self.elems[k];
             let idx = t.map(|i| i as usize);
+            let dp_mean: f64 = idx
+                .iter()
+                .map(|&i| self.p_new[i] - gamma * p_old[i])
+                .sum::<f64>()
+                / 3.0;
             let grad_p: Vector2<f64> = (0..3).map(|a| e.grad[a] * self.p_new[idx[a]]).sum();
-            let grad_dp: Vector2<f64> = (0..3)
-                .map(|a| e.grad[a] * (self.p_new[idx[a]] - gamma * p_old[idx[a]]))
-                .sum();
             let w = self.tau_e[k] * e.area / 3.0;
-            for &i in &idx {
-                impulse[i] -= (e.area / 3.0) * grad_dp;
+            for (a, &i) in idx.iter().enumerate() {
+                impulse[i] += e.area * dp_mean * e.grad[a];
                 self.pi_new[i] -= w * grad_p;
             }
         }
+        let (p_new, p_old) = (&self.p_new, &self.p_old);
+        let dp = |i: usize| p_new[i] - gamma * p_old[i];
+        self.cancel_contact_traction(particles, dp, &mut impulse);
         self.u_new.clear();
         self.u_new.extend_from_slice(&self.u_tilde);
         for i in 0..n {

@@ -311,3 +311,33 @@ impl Solver {
 
 use crate::geometry::Flume;
 use crate::particles::Particles;
+
+impl Solver {
+    /// The pressure force in divergence form, ∫ p ∇N_i = ∮ N_i p n − ∫ N_i ∇p, includes the
+    /// traction of the pressure on the boundary edges. On the free surface p = 0 (or nearly,
+    /// held weakly) and it vanishes, but an edge from a fluid node to a wall contact point runs
+    /// from the water line to a wall node that holds the hydrostatic pressure of its height
+    /// (`pressure.rs`), and that traction would push the water line along the wall. This
+    /// removes it, `force_i −= ∫_edge N_i p n ds` (p linear along the edge, n outward).
+    pub(crate) fn cancel_contact_traction(
+        &self,
+        particles: &Particles,
+        p: impl Fn(usize) -> f64,
+        force: &mut [Vector2<f64>],
+    ) {
+        let fs = &self.mesh.free_surface;
+        for &[a, b] in &self.mesh.boundary_edges {
+            let (a, b) = (a as usize, b as usize);
+            if !(fs[a] && fs[b]) || particles.is_fluid(a) == particles.is_fluid(b) {
+                continue;
+            }
+            let d = particles.position[b] - particles.position[a];
+            // Kept triangles are counter-clockwise and the edge runs along its triangle, so
+            // the outward normal is d turned clockwise; |n| = ℓ absorbs the edge length.
+            let n_len = Vector2::new(d.y, -d.x);
+            let (pa, pb) = (p(a), p(b));
+            force[a] -= n_len * ((2.0 * pa + pb) / 6.0);
+            force[b] -= n_len * ((pa + 2.0 * pb) / 6.0);
+        }
+    }
+}

@@ -1,17 +1,12 @@
 //! Stage `predict`: the momentum equation without the pressure increment (thesis eq. 2.6,
 //! method.md §1 step 1), with lumped mass M, viscous matrix K and θ-weighted viscosity:
 //!
-//! (M/Δt + θK) ũ = (M/Δt) uⁿ − (1 − θ) K uⁿ − γ G pⁿ + M g.
+//! (M/Δt + θK) ũ = (M/Δt) uⁿ − (1 − θ) K uⁿ + γ Dᵀpⁿ + M g.
 //!
-//! Per element, K u contributes 2μ_e A S(u) b_i to node i (symmetric-gradient form) and G p,
-//! the gradient form ∫ N_i ∇p, contributes (A/3) ∇p_e. Unlike the divergence form
-//! −∫ p ∇N_i = ∫ N_i ∇p − ∮ N_i p n, it carries no traction from boundary edges: where the
-//! water line lies between two wall nodes, the kept triangle at the wall reaches above the
-//! water, its wall node above the line holds the hydrostatic pressure extended to it
-//! (negative, see `pressure.rs`), and the divergence form would pull the water line down with
-//! that pressure. With the gradient form still water is an exact equilibrium for any height
-//! of the water line between the wall nodes. With θ = 0 this is explicit per node; with θ > 0 it is solved by
-//! matrix-free Jacobi-CG. No-slip wall nodes keep their Dirichlet velocity (0); slip wall nodes
+//! Per element, K u contributes 2μ_e A S(u) b_i to node i (symmetric-gradient form) and Dᵀp
+//! contributes A p̄ b_i, less the traction on the edges that end at a wall contact point
+//! (`Solver::cancel_contact_traction`). With θ = 0 this is explicit per node; with θ > 0 it
+//! is solved by matrix-free Jacobi-CG. No-slip wall nodes keep their Dirichlet velocity (0); slip wall nodes
 //! keep the component of ũ along the wall (they do not move; their velocity lets the water next
 //! to them slide); isolated particles fly ballistically, ũ = uⁿ + Δt g.
 
@@ -34,12 +29,13 @@ impl Solver {
             let g = fem::velocity_gradient(e, idx.map(|i| x_u[i]));
             let (s, _) = fem::strain_rate(&g);
             let visc = (-2.0 * explicit_visc * self.mu_e[k] * e.area) * s;
-            let grad_p: Vector2<f64> = (0..3).map(|a| e.grad[a] * pres[idx[a]]).sum();
-            let press = -(p.gamma * e.area / 3.0) * grad_p;
+            let p_mean = (pres[idx[0]] + pres[idx[1]] + pres[idx[2]]) / 3.0;
+            let press = p.gamma * e.area * p_mean;
             for (a, &i) in idx.iter().enumerate() {
-                force[i] += visc * e.grad[a] + press;
+                force[i] += visc * e.grad[a] + press * e.grad[a];
             }
         }
+        self.cancel_contact_traction(particles, |i| p.gamma * pres[i], &mut force);
         self.u_tilde.clear();
         self.u_tilde.resize(n, Vector2::zeros());
         for i in 0..n {

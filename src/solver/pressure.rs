@@ -19,7 +19,8 @@
 //! hold a pressure that falls to 0 at a node up to h below or above the water line, and its
 //! gradient would push the water away from or into the wall: the still tank at h = 4 cm, whose
 //! water line lies 5.6 mm below a wall node, moved at 0.05 m/s within 0.5 s; now it holds
-//! 1e-14 m/s (with the gradient form of the pressure force, `predict.rs`). With `weak_surface_length_m` λ > 0, free-surface fluid nodes stay
+//! 1e-14 m/s. The edge from that wall node to the water line is on the free surface but not at
+//! p = 0, so the pressure force of `predict.rs` and `correct.rs` leaves out its traction. With `weak_surface_length_m` λ > 0, free-surface fluid nodes stay
 //! unknowns with their own continuity row and p = 0 holds weakly through the Robin term
 //! (Δt/ρ + τ_e) ℓ/(2λ) on the diagonal of both nodes of each free-surface edge of length ℓ.
 //! Strong p = 0 leaves the surface layer without a continuity equation, and there a 2h ripple
