@@ -1,5 +1,5 @@
 //! Mode-1 sloshing in the closed tank of `cases/sloshing.toml` (L = 1 m, d = 0.5 m, amplitude
-//! 5 mm): the period against linear theory, 2π/sqrt(g k tanh(k d)) with k = π/L = 1.1818 s
+//! 5 mm): the period against linear theory, 2π/sqrt(g k tanh(k d)) with k = π/L, 1.1818 s
 //! (`assets/validation/sloshing_linear_rectangular_tank_analytic.csv`), within 2 %; the
 //! damping rate is reported. Run at h = 2 cm (the case file's h = 1 cm takes two minutes:
 //! `surflab run cases/sloshing.toml`; its figures are in the README).

@@ -319,18 +319,27 @@ impl Solver {
     /// from the water line to a wall node that holds the hydrostatic pressure of its height
     /// (`pressure.rs`), and that traction would push the water line along the wall. This
     /// removes it, `force_i −= ∫_edge N_i p n ds` (p linear along the edge, n outward).
+    /// The free-surface edges from a wall contact point to a fluid node, as [from, to] along
+    /// their kept triangle (counter-clockwise).
+    pub(crate) fn contact_edges<'a>(
+        &'a self,
+        particles: &'a Particles,
+    ) -> impl Iterator<Item = [usize; 2]> + 'a {
+        let fs = &self.mesh.free_surface;
+        self.mesh
+            .boundary_edges
+            .iter()
+            .map(|&[a, b]| [a as usize, b as usize])
+            .filter(move |&[a, b]| fs[a] && fs[b] && particles.is_fluid(a) != particles.is_fluid(b))
+    }
+
     pub(crate) fn cancel_contact_traction(
         &self,
         particles: &Particles,
         p: impl Fn(usize) -> f64,
         force: &mut [Vector2<f64>],
     ) {
-        let fs = &self.mesh.free_surface;
-        for &[a, b] in &self.mesh.boundary_edges {
-            let (a, b) = (a as usize, b as usize);
-            if !(fs[a] && fs[b]) || particles.is_fluid(a) == particles.is_fluid(b) {
-                continue;
-            }
+        for [a, b] in self.contact_edges(particles) {
             let d = particles.position[b] - particles.position[a];
             // Kept triangles are counter-clockwise and the edge runs along its triangle, so
             // the outward normal is d turned clockwise; |n| = ℓ absorbs the edge length.

@@ -6,9 +6,9 @@
 //! Per element, K u contributes 2μ_e A S(u) b_i to node i (symmetric-gradient form) and Dᵀp
 //! contributes A p̄ b_i, less the traction on the edges that end at a wall contact point
 //! (`Solver::cancel_contact_traction`). With θ = 0 this is explicit per node; with θ > 0 it
-//! is solved by matrix-free Jacobi-CG. No-slip wall nodes keep their Dirichlet velocity (0); slip wall nodes
-//! keep the component of ũ along the wall (they do not move; their velocity lets the water next
-//! to them slide); isolated particles fly ballistically, ũ = uⁿ + Δt g.
+//! is solved by matrix-free Jacobi-CG. No-slip wall nodes keep their Dirichlet velocity (0);
+//! slip wall nodes keep the component of ũ along the wall (they do not move; their velocity
+//! lets the water next to them slide); isolated particles fly ballistically, ũ = uⁿ + Δt g.
 
 use super::{Solver, cg};
 use crate::fem;

@@ -20,8 +20,9 @@
 //! gradient would push the water away from or into the wall: the still tank at h = 4 cm, whose
 //! water line lies 5.6 mm below a wall node, moved at 0.05 m/s within 0.5 s; now it holds
 //! 1e-14 m/s. The edge from that wall node to the water line is on the free surface but not at
-//! p = 0, so the pressure force of `predict.rs` and `correct.rs` leaves out its traction. With `weak_surface_length_m` λ > 0, free-surface fluid nodes stay
-//! unknowns with their own continuity row and p = 0 holds weakly through the Robin term
+//! p = 0, so the pressure force of `predict.rs` and `correct.rs` leaves out its traction.
+//! With `weak_surface_length_m` λ > 0, free-surface fluid nodes stay unknowns with their own
+//! continuity row and p = 0 holds weakly through the Robin term
 //! (Δt/ρ + τ_e) ℓ/(2λ) on the diagonal of both nodes of each free-surface edge of length ℓ.
 //! Strong p = 0 leaves the surface layer without a continuity equation, and there a 2h ripple
 //! grows out of round-off (README, *Surface ripple*); the weak form damps it. The matrix is
@@ -341,17 +342,15 @@ impl Solver {
         self.p_fixed.clear();
         self.p_fixed.resize(n, 0.0);
         let mut sum = vec![(0.0, 0usize); n];
-        let fs = &self.mesh.free_surface;
-        for &[a, b] in &self.mesh.boundary_edges {
-            let (a, b) = (a as usize, b as usize);
-            if !(fs[a] && fs[b]) {
-                continue;
-            }
-            for (w, f) in [(a, b), (b, a)] {
-                if !particles.is_fluid(w) && particles.is_fluid(f) && self.dirichlet[w] {
-                    sum[w].0 += particles.position[f].y;
-                    sum[w].1 += 1;
-                }
+        for [a, b] in self.contact_edges(particles) {
+            let (w, f) = if particles.is_fluid(a) {
+                (b, a)
+            } else {
+                (a, b)
+            };
+            if self.dirichlet[w] {
+                sum[w].0 += particles.position[f].y;
+                sum[w].1 += 1;
             }
         }
         let g = -self.params.gravity_m_s2.y;
