@@ -64,6 +64,8 @@ pub struct Mesh {
     pub triangles: Vec<[u32; 3]>,
     /// Edges on the boundary of the kept mesh (free surface and wetted walls), as node pairs.
     pub boundary_edges: Vec<[u32; 2]>,
+    /// Per boundary edge: the kept triangle it belongs to (index into `triangles`).
+    pub boundary_edge_triangle: Vec<u32>,
     /// Per node: on a free-surface edge, fluid or wall (p = 0 there).
     pub free_surface: Vec<bool>,
     /// The free-surface flags of the previous remesh (for the contact-line rule).
@@ -102,6 +104,7 @@ pub fn alpha_shape(
     let max_r2_boundary = (alpha_boundary.min(alpha) * h).powi(2);
     mesh.triangles.clear();
     mesh.boundary_edges.clear();
+    mesh.boundary_edge_triangle.clear();
     std::mem::swap(&mut mesh.free_surface, &mut mesh.previous_free_surface);
     mesh.previous_free_surface.resize(n, false);
     mesh.free_surface.clear();
@@ -111,7 +114,8 @@ pub fn alpha_shape(
     mesh.delaunay_triangles = tri.num_inner_faces();
 
     let is_wall = |i: u32| particles.kind[i as usize] == NodeKind::Wall;
-    let mut kept = vec![false; tri.num_all_faces()];
+    // Per Delaunay face: its index in `mesh.triangles`, or u32::MAX when it is not kept.
+    let mut kept = vec![u32::MAX; tri.num_all_faces()];
     for face in tri.inner_faces() {
         let [a, b, c] = face.vertices().map(|v| v.data().id);
         if is_wall(a) && is_wall(b) && is_wall(c) {
@@ -146,7 +150,7 @@ pub fn alpha_shape(
             continue;
         }
         {
-            kept[face.fix().index()] = true;
+            kept[face.fix().index()] = mesh.triangles.len() as u32;
             mesh.triangles.push([a, b, c]);
             for v in [a, b, c] {
                 mesh.in_mesh[v as usize] = true;
@@ -154,16 +158,18 @@ pub fn alpha_shape(
         }
     }
     for face in tri.inner_faces() {
-        if !kept[face.fix().index()] {
+        let owner = kept[face.fix().index()];
+        if owner == u32::MAX {
             continue;
         }
         for edge in face.adjacent_edges() {
             let across = edge.rev().face();
-            if !across.is_outer() && kept[across.fix().index()] {
+            if !across.is_outer() && kept[across.fix().index()] != u32::MAX {
                 continue;
             }
             let [from, to] = edge.vertices().map(|v| v.data().id);
             mesh.boundary_edges.push([from, to]);
+            mesh.boundary_edge_triangle.push(owner);
             if is_wall(from) && is_wall(to) {
                 continue;
             }
@@ -228,6 +234,7 @@ impl Mesh {
         keep(&mut self.in_mesh);
         self.triangles.clear();
         self.boundary_edges.clear();
+        self.boundary_edge_triangle.clear();
     }
 
     /// Node insertion between steps: `count` new interior nodes at the end.

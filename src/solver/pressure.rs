@@ -380,29 +380,19 @@ impl Solver {
         }
         let rho = self.params.density_kg_m3;
         let mesh = &self.mesh;
-        let surface: std::collections::HashSet<(u32, u32)> = mesh
-            .boundary_edges
-            .iter()
-            .filter(|[a, b]| particles.is_fluid(*a as usize) || particles.is_fluid(*b as usize))
-            .map(|&[a, b]| (a.min(b), a.max(b)))
-            .collect();
         let sys = &mut self.pressure;
-        for (k, t) in mesh.triangles.iter().enumerate() {
-            for j in 0..3 {
-                let (a, b) = (t[j], t[(j + 1) % 3]);
-                if !(mesh.free_surface[a as usize] && mesh.free_surface[b as usize]) {
-                    continue;
-                }
-                if !surface.contains(&(a.min(b), a.max(b))) {
-                    continue;
-                }
-                let len = (particles.position[a as usize] - particles.position[b as usize]).norm();
-                let w = (dt / rho + self.tau_e[k]) * len / (2.0 * lambda);
-                for i in [a, b] {
-                    let r = sys.row_of_node[i as usize];
-                    if r != NONE {
-                        sys.add(r as usize, r as usize, w);
-                    }
+        for (&[a, b], &k) in mesh.boundary_edges.iter().zip(&mesh.boundary_edge_triangle) {
+            let (a, b) = (a as usize, b as usize);
+            let surface = mesh.free_surface[a] && mesh.free_surface[b];
+            if !surface || !(particles.is_fluid(a) || particles.is_fluid(b)) {
+                continue;
+            }
+            let len = (particles.position[a] - particles.position[b]).norm();
+            let w = (dt / rho + self.tau_e[k as usize]) * len / (2.0 * lambda);
+            for i in [a, b] {
+                let r = sys.row_of_node[i];
+                if r != NONE {
+                    sys.add(r as usize, r as usize, w);
                 }
             }
         }
