@@ -76,7 +76,12 @@ pub struct Mesh {
     pub delaunay_triangles: usize,
 }
 
-/// Stage 1: the Delaunay triangulation of every node.
+/// Stage 1: the Delaunay triangulation of every node, inserted one by one in Morton (Z-curve)
+/// order so that each insertion starts its walk from a neighbour (spade's last-used-vertex
+/// hint). spade's bulk loader sweeps a circle out from the centroid, which suits round clouds
+/// but not a flume 15–25 times longer than deep: on `flap_deep_water` (19 207 nodes) it took
+/// 33–36 ms per step against 15–18 ms this way, on the dam break (5 500) the two are alike.
+/// The triangles then also come out in space-filling order, which the later stages read.
 pub fn triangulate(
     particles: &Particles,
     scratch: &mut Vec<Vertex>,
@@ -86,7 +91,38 @@ pub fn triangulate(
         pos: Point2::new(p.x, p.y),
         id: i as u32,
     }));
-    Delaunay::bulk_load(std::mem::take(scratch)).map_err(MeshError::Insertion)
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for v in scratch.iter() {
+        lo = [lo[0].min(v.pos.x), lo[1].min(v.pos.y)];
+        hi = [hi[0].max(v.pos.x), hi[1].max(v.pos.y)];
+    }
+    // One scale for both axes, so that the curve's cells are square.
+    let cells_per_m =
+        f64::from(u16::MAX) / (hi[0] - lo[0]).max(hi[1] - lo[1]).max(f64::MIN_POSITIVE);
+    scratch.sort_by_cached_key(|v| {
+        // A NaN or infinite position gives some key; its insertion then fails below.
+        let qx = ((v.pos.x - lo[0]) * cells_per_m) as u16;
+        let qy = ((v.pos.y - lo[1]) * cells_per_m) as u16;
+        morton_key(qx, qy)
+    });
+    let n = scratch.len();
+    let mut tri = Delaunay::with_capacity(n, 3 * n, 2 * n);
+    for v in scratch.drain(..) {
+        tri.insert(v).map_err(MeshError::Insertion)?;
+    }
+    Ok(tri)
+}
+
+/// The bits of x and y interleaved (x in the even bits).
+fn morton_key(x: u16, y: u16) -> u32 {
+    let spread = |v: u16| {
+        let mut v = u32::from(v);
+        v = (v | (v << 8)) & 0x00ff_00ff;
+        v = (v | (v << 4)) & 0x0f0f_0f0f;
+        v = (v | (v << 2)) & 0x3333_3333;
+        (v | (v << 1)) & 0x5555_5555
+    };
+    spread(x) | (spread(y) << 1)
 }
 
 /// Stage 2: the α-shape, the all-wall filter and the free surface, written into `mesh`.
@@ -344,6 +380,16 @@ mod tests {
         }
         let (_, count) = mesh.components(p.len());
         assert_eq!(count, 1);
+    }
+
+    #[test]
+    fn morton_keys_interleave_the_bits() {
+        assert_eq!(morton_key(0, 0), 0);
+        assert_eq!(morton_key(1, 0), 1);
+        assert_eq!(morton_key(0, 1), 2);
+        assert_eq!(morton_key(3, 3), 15);
+        assert_eq!(morton_key(u16::MAX, 0), 0x5555_5555);
+        assert_eq!(morton_key(u16::MAX, u16::MAX), u32::MAX);
     }
 
     #[test]

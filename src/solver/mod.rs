@@ -10,6 +10,7 @@ mod correct;
 mod elements;
 mod motion;
 mod nodes;
+mod ordering;
 mod predict;
 pub mod pressure;
 mod step;

@@ -29,17 +29,23 @@
 //! symmetric positive definite and assembled straight into CSR from the mesh.
 //!
 //! The pattern and the Dirichlet set are known as soon as the α-shape is: `prepare_pressure`
-//! builds the pattern and, for the Cholesky solver, starts faer's symbolic analysis (the
-//! fill-reducing ordering, about 40 % of the solve at 5 000 unknowns) on a second thread, which
-//! works while this one computes the element properties, the predictor and the matrix values.
+//! builds the pattern and, for the Cholesky solver, starts the symbolic analysis (the
+//! nested-dissection ordering of `ordering.rs` and faer's supernodal structure) on a second
+//! thread, which works while this one computes the element properties, the predictor and the
+//! matrix values.
 
 use super::{Solver, StepError};
 use crate::case::PressureSolver;
 use crate::fem;
 use crate::particles::Particles;
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::sparse::linalg::SupernodalThreshold;
+use faer::sparse::linalg::cholesky::{
+    CholeskySymbolicParams, SymbolicCholesky, SymmetricOrdering, factorize_symbolic_cholesky,
+};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use nalgebra::Vector2;
+use std::sync::Arc;
 use std::thread::JoinHandle;
 
 const NONE: u32 = u32::MAX;
@@ -56,18 +62,52 @@ pub struct PressureSystem {
     pub rhs: Vec<f64>,
     /// Solution, warm-started from the previous pressure.
     pub x: Vec<f64>,
+    /// Position of the node of each row (for the fill-reducing ordering).
+    pub position: Vec<[f64; 2]>,
     /// The symbolic Cholesky analysis of this step's pattern, once known.
-    symbolic: Option<SymbolicLlt<usize>>,
+    symbolic: Option<Arc<SymbolicCholesky<usize>>>,
+    /// The values of the Cholesky factor (reused from step to step).
+    factor: Vec<f64>,
+    /// Per kept triangle, the index in `val` of its entry (a, b) at `3 a + b` (local node
+    /// numbers), `u32::MAX` where a or b has a prescribed pressure.
+    slots: Vec<[u32; 9]>,
+    /// Scratch of `build_pattern`: the triangles of each row (CSR), the last row that listed
+    /// each column and the place of that column in it.
+    triangle_ptr: Vec<usize>,
+    row_triangles: Vec<u32>,
+    last_row_of: Vec<u32>,
+    slot_of: Vec<u32>,
 }
 
 /// The symbolic analysis running on the second thread.
-pub(super) type SymbolicJob = JoinHandle<Result<SymbolicLlt<usize>, String>>;
+pub(super) type SymbolicJob = JoinHandle<Result<SymbolicCholesky<usize>, String>>;
 
-/// Symbolic Cholesky analysis of a symmetric pattern (full CSR = CSC).
-fn analyse(n: usize, row_ptr: &[usize], col: &[usize]) -> Result<SymbolicLlt<usize>, String> {
+/// Symbolic Cholesky analysis of a symmetric pattern (full CSR = CSC) whose rows are nodes at
+/// `position`: nested-dissection ordering, supernodal structure.
+fn analyse(
+    position: &[[f64; 2]],
+    row_ptr: &[usize],
+    col: &[usize],
+) -> Result<SymbolicCholesky<usize>, String> {
+    let n = position.len();
+    let order = super::ordering::nested_dissection(position, row_ptr, col);
+    let mut inverse = vec![0; n];
+    for (k, &i) in order.iter().enumerate() {
+        inverse[i] = k;
+    }
+    let permutation = faer::perm::PermRef::new_checked(&order, &inverse, n);
     let pattern = SymbolicSparseColMatRef::new_checked(n, n, row_ptr, None, col);
-    SymbolicLlt::try_new(pattern, faer::Side::Lower)
-        .map_err(|e| format!("symbolic Cholesky analysis failed: {e:?}"))
+    let params = CholeskySymbolicParams {
+        supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+        ..Default::default()
+    };
+    factorize_symbolic_cholesky(
+        pattern,
+        faer::Side::Lower,
+        SymmetricOrdering::Custom(permutation),
+        params,
+    )
+    .map_err(|e| format!("symbolic Cholesky analysis failed: {e:?}"))
 }
 
 impl PressureSystem {
@@ -75,64 +115,81 @@ impl PressureSystem {
         self.node_of_row.len()
     }
 
-    /// The pattern of the node graph of `triangles` restricted to unknown nodes.
+    /// The pattern of the node graph of `triangles` restricted to unknown nodes: the
+    /// triangles of each row are listed first, then each row takes the distinct unknowns of
+    /// its triangles (a marker per column, no sort of duplicates) and sorts them.
     fn build_pattern(&mut self, triangles: &[[u32; 3]]) {
         let n = self.unknowns();
-        self.row_ptr.clear();
-        self.row_ptr.resize(n + 1, 0);
+        let row_of_node = &self.row_of_node;
+        let tri_ptr = &mut self.triangle_ptr;
+        tri_ptr.clear();
+        tri_ptr.resize(n + 1, 0);
         for t in triangles {
             for &a in t {
-                let ra = self.row_of_node[a as usize];
+                let ra = row_of_node[a as usize];
                 if ra != NONE {
-                    self.row_ptr[ra as usize + 1] += 3;
+                    tri_ptr[ra as usize + 1] += 1;
                 }
             }
         }
-        for i in 0..n {
-            self.row_ptr[i + 1] += self.row_ptr[i];
+        for r in 0..n {
+            tri_ptr[r + 1] += tri_ptr[r];
         }
-        let mut fill = self.row_ptr.clone();
-        self.col.clear();
-        self.col.resize(self.row_ptr[n], usize::MAX);
-        for t in triangles {
+        let row_triangles = &mut self.row_triangles;
+        row_triangles.clear();
+        row_triangles.resize(tri_ptr[n], 0);
+        let mut cursor = tri_ptr[..n].to_vec();
+        for (k, t) in triangles.iter().enumerate() {
             for &a in t {
-                let ra = self.row_of_node[a as usize];
-                if ra == NONE {
-                    continue;
+                let ra = row_of_node[a as usize];
+                if ra != NONE {
+                    row_triangles[cursor[ra as usize]] = k as u32;
+                    cursor[ra as usize] += 1;
                 }
-                for &b in t {
-                    let rb = self.row_of_node[b as usize];
-                    if rb != NONE {
-                        self.col[fill[ra as usize]] = rb as usize;
-                        fill[ra as usize] += 1;
+            }
+        }
+        // `last_row_of[c]` marks column c as listed in row r; `slot_of[c]` is then its place.
+        let (last_row_of, slot_of) = (&mut self.last_row_of, &mut self.slot_of);
+        last_row_of.clear();
+        last_row_of.resize(n, NONE);
+        slot_of.resize(n, 0);
+        let slots = &mut self.slots;
+        slots.clear();
+        slots.resize(triangles.len(), [NONE; 9]);
+        self.row_ptr.clear();
+        self.row_ptr.push(0);
+        self.col.clear();
+        for r in 0..n {
+            let row_start = self.col.len();
+            let row_tris = &row_triangles[tri_ptr[r]..tri_ptr[r + 1]];
+            for &k in row_tris {
+                for &b in &triangles[k as usize] {
+                    let rb = row_of_node[b as usize];
+                    if rb != NONE && last_row_of[rb as usize] != r as u32 {
+                        last_row_of[rb as usize] = r as u32;
+                        self.col.push(rb as usize);
                     }
                 }
             }
-        }
-        // Sort and de-duplicate each row in place, compacting the arrays.
-        let mut write = 0;
-        let mut start = 0;
-        for i in 0..n {
-            let end = fill[i];
-            let row = &mut self.col[start..end];
-            row.sort_unstable();
-            let row_start = write;
-            let mut last = usize::MAX;
-            for k in start..end {
-                let c = self.col[k];
-                if c != last {
-                    self.col[write] = c;
-                    write += 1;
-                    last = c;
+            self.col[row_start..].sort_unstable();
+            for (s, &c) in self.col[row_start..].iter().enumerate() {
+                slot_of[c] = (row_start + s) as u32;
+            }
+            for &k in row_tris {
+                let t = &triangles[k as usize];
+                let a = t.iter().position(|&i| row_of_node[i as usize] == r as u32);
+                let a = a.expect("the triangle lists the row's node");
+                for (b, &j) in t.iter().enumerate() {
+                    let rb = row_of_node[j as usize];
+                    if rb != NONE {
+                        slots[k as usize][3 * a + b] = slot_of[rb as usize];
+                    }
                 }
             }
-            start = self.row_ptr[i + 1];
-            self.row_ptr[i] = row_start;
+            self.row_ptr.push(self.col.len());
         }
-        self.row_ptr[n] = write;
-        self.col.truncate(write);
         self.val.clear();
-        self.val.resize(write, 0.0);
+        self.val.resize(self.col.len(), 0.0);
     }
 
     #[inline]
@@ -177,20 +234,44 @@ impl PressureSystem {
         }
         match method {
             PressureSolver::Cholesky => {
-                use faer::linalg::solvers::Solve;
                 let symbolic = match &self.symbolic {
                     Some(s) => s.clone(),
-                    None => analyse(n, &self.row_ptr, &self.col)?,
+                    None => Arc::new(analyse(&self.position, &self.row_ptr, &self.col)?),
                 };
-                let llt = Llt::try_new_with_symbolic(symbolic, self.matrix(), faer::Side::Lower)
+                // One thread: the symbolic analysis has finished, and the lab leaves the
+                // other core to the window.
+                let par = faer::Par::Seq;
+                let mut factor = std::mem::take(&mut self.factor);
+                factor.clear();
+                factor.resize(symbolic.len_val(), 0.0);
+                let scratch = symbolic
+                    .factorize_numeric_llt_scratch::<f64>(par, Default::default())
+                    .or(symbolic.solve_in_place_scratch::<f64>(1, par));
+                let mut mem = MemBuffer::new(scratch);
+                let llt = symbolic
+                    .factorize_numeric_llt(
+                        &mut factor,
+                        self.matrix(),
+                        faer::Side::Lower,
+                        Default::default(),
+                        par,
+                        MemStack::new(&mut mem),
+                        Default::default(),
+                    )
                     .map_err(|e| {
                         format!("sparse Cholesky failed ({e:?}): matrix not positive definite")
                     })?;
                 let mut b = faer::Mat::<f64>::from_fn(n, 1, |i, _| self.rhs[i]);
-                llt.solve_in_place(b.as_mut());
+                llt.solve_in_place_with_conj(
+                    faer::Conj::No,
+                    b.as_mut(),
+                    par,
+                    MemStack::new(&mut mem),
+                );
                 for i in 0..n {
                     self.x[i] = b[(i, 0)];
                 }
+                self.factor = factor;
                 Ok(0)
             }
             PressureSolver::Cg => {
@@ -256,10 +337,13 @@ impl Solver {
         sys.row_of_node.clear();
         sys.row_of_node.resize(n, NONE);
         sys.node_of_row.clear();
+        sys.position.clear();
         for i in 0..n {
             if !self.dirichlet[i] {
                 sys.row_of_node[i] = sys.node_of_row.len() as u32;
                 sys.node_of_row.push(i as u32);
+                let x = particles.position[i];
+                sys.position.push([x.x, x.y]);
             }
         }
         sys.build_pattern(&mesh.triangles);
@@ -272,8 +356,11 @@ impl Solver {
             && m > 0
             && self.params.parallel_symbolic
         {
-            let (row_ptr, col) = (sys.row_ptr.clone(), sys.col.clone());
-            self.symbolic_job = Some(std::thread::spawn(move || analyse(m, &row_ptr, &col)));
+            let (position, row_ptr, col) =
+                (sys.position.clone(), sys.row_ptr.clone(), sys.col.clone());
+            self.symbolic_job = Some(std::thread::spawn(move || {
+                analyse(&position, &row_ptr, &col)
+            }));
         }
     }
 
@@ -321,12 +408,10 @@ impl Solver {
                 let ra = ra as usize;
                 sys.rhs[ra] += -e.area / 3.0 * div_u + e.area * e.grad[a].dot(&flux);
                 for b in 0..3 {
-                    let rb = sys.row_of_node[idx[b]];
-                    let k = c * e.grad[a].dot(&e.grad[b]);
-                    if rb != NONE {
-                        sys.add(ra, rb as usize, k);
-                    } else {
-                        sys.rhs[ra] -= k * p_fixed[idx[b]];
+                    let kab = c * e.grad[a].dot(&e.grad[b]);
+                    match sys.slots[k][3 * a + b] {
+                        NONE => sys.rhs[ra] -= kab * p_fixed[idx[b]],
+                        slot => sys.val[slot as usize] += kab,
                     }
                 }
             }
@@ -404,7 +489,7 @@ impl Solver {
                 .join()
                 .map_err(|_| StepError::Pressure("the symbolic analysis thread panicked".into()))?
                 .map_err(StepError::Pressure)?;
-            self.pressure.symbolic = Some(symbolic);
+            self.pressure.symbolic = Some(Arc::new(symbolic));
         }
         let p = &self.params;
         let iterations = self

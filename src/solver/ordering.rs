@@ -1,0 +1,177 @@
+//! Fill-reducing ordering of the pressure unknowns for the sparse Cholesky factor: geometric
+//! nested dissection.
+//!
+//! The unknowns are mesh nodes with coordinates, so the node graph can be cut by position
+//! instead of by the degree bookkeeping of approximate minimum degree (AMD). A set of nodes
+//! is split at the median of its longer extent; the nodes of the upper half with a neighbour
+//! in the lower half form the separator; the lower half, then the upper half, each ordered
+//! the same way, come first and the separator last. Eliminating a half then never creates
+//! fill in the other, and a separator of a 2D mesh holds about √n nodes.
+//!
+//! Measured on the dam break (about 5 400 unknowns, 2-core machine): the ordering takes
+//! 0.9 ms where AMD took about 3 ms, and although its factor has more entries (204 000
+//! against 118 000) they fall into dense blocks, so the supernodal factorisation takes
+//! 2.8–3.2 ms against 4.6–5.8 ms for AMD's simplicial one.
+
+/// Node sets at most this large are not split further (8–64 measured alike; 16 was best).
+const LEAF_NODES: usize = 16;
+
+/// The elimination order of the nodes at `position` whose symmetric adjacency is the CSR
+/// pattern (`row_ptr`, `col`): `order[k]` is the node eliminated k-th.
+pub fn nested_dissection(position: &[[f64; 2]], row_ptr: &[usize], col: &[usize]) -> Vec<usize> {
+    let n = position.len();
+    assert_eq!(row_ptr.len(), n + 1, "one pattern row per node");
+    let mut cut = Cut {
+        position,
+        row_ptr,
+        col,
+        part: vec![0; n],
+        next_part: 1,
+        order: Vec::with_capacity(n),
+    };
+    cut.dissect((0..n).collect());
+    cut.order
+}
+
+struct Cut<'a> {
+    position: &'a [[f64; 2]],
+    row_ptr: &'a [usize],
+    col: &'a [usize],
+    /// The label of the part each node was last put in.
+    part: Vec<u32>,
+    next_part: u32,
+    order: Vec<usize>,
+}
+
+impl Cut<'_> {
+    fn dissect(&mut self, mut nodes: Vec<usize>) {
+        if nodes.len() <= LEAF_NODES {
+            self.order.extend_from_slice(&nodes);
+            return;
+        }
+        let pos = self.position;
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for &i in &nodes {
+            for a in 0..2 {
+                lo[a] = lo[a].min(pos[i][a]);
+                hi[a] = hi[a].max(pos[i][a]);
+            }
+        }
+        let axis = usize::from(hi[1] - lo[1] > hi[0] - lo[0]);
+        let mid = nodes.len() / 2;
+        nodes.select_nth_unstable_by(mid, |&a, &b| pos[a][axis].total_cmp(&pos[b][axis]));
+        let (lower, upper) = (self.next_part, self.next_part + 1);
+        self.next_part += 2;
+        for &i in &nodes[..mid] {
+            self.part[i] = lower;
+        }
+        for &i in &nodes[mid..] {
+            self.part[i] = upper;
+        }
+        let mut upper_nodes = Vec::with_capacity(nodes.len() - mid);
+        let mut separator = Vec::new();
+        for &i in &nodes[mid..] {
+            let touches_lower = self.col[self.row_ptr[i]..self.row_ptr[i + 1]]
+                .iter()
+                .any(|&j| self.part[j] == lower);
+            if touches_lower {
+                separator.push(i);
+            } else {
+                upper_nodes.push(i);
+            }
+        }
+        nodes.truncate(mid);
+        self.dissect(nodes);
+        self.dissect(upper_nodes);
+        self.order.extend_from_slice(&separator);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The 5-point pattern of an nx × ny grid, with node positions.
+    fn grid(nx: usize, ny: usize) -> (Vec<[f64; 2]>, Vec<usize>, Vec<usize>) {
+        let id = |i: usize, j: usize| j * nx + i;
+        let mut position = Vec::new();
+        let (mut row_ptr, mut col) = (vec![0], Vec::new());
+        for j in 0..ny {
+            for i in 0..nx {
+                position.push([i as f64, j as f64]);
+                let mut row = vec![id(i, j)];
+                if i > 0 {
+                    row.push(id(i - 1, j));
+                }
+                if i + 1 < nx {
+                    row.push(id(i + 1, j));
+                }
+                if j > 0 {
+                    row.push(id(i, j - 1));
+                }
+                if j + 1 < ny {
+                    row.push(id(i, j + 1));
+                }
+                row.sort_unstable();
+                col.extend(row);
+                row_ptr.push(col.len());
+            }
+        }
+        (position, row_ptr, col)
+    }
+
+    /// Entries of the Cholesky factor for the elimination order (symbolic elimination).
+    fn factor_entries(order: &[usize], row_ptr: &[usize], col: &[usize]) -> usize {
+        let n = order.len();
+        let mut rank = vec![0; n];
+        for (k, &i) in order.iter().enumerate() {
+            rank[i] = k;
+        }
+        let mut adj: Vec<std::collections::BTreeSet<usize>> = (0..n)
+            .map(|k| {
+                let i = order[k];
+                col[row_ptr[i]..row_ptr[i + 1]]
+                    .iter()
+                    .map(|&j| rank[j])
+                    .filter(|&r| r > k)
+                    .collect()
+            })
+            .collect();
+        let mut entries = n;
+        for k in 0..n {
+            let later: Vec<usize> = adj[k].iter().copied().collect();
+            entries += later.len();
+            if let Some((&first, rest)) = later.split_first() {
+                for &r in rest {
+                    adj[first].insert(r);
+                }
+            }
+        }
+        entries
+    }
+
+    #[test]
+    fn the_order_is_a_permutation() {
+        let (position, row_ptr, col) = grid(37, 11);
+        let mut order = nested_dissection(&position, &row_ptr, &col);
+        order.sort_unstable();
+        assert_eq!(order, (0..37 * 11).collect::<Vec<_>>());
+    }
+
+    #[test]
+    fn dissection_fills_less_than_the_natural_order() {
+        let (position, row_ptr, col) = grid(60, 60);
+        let natural: Vec<usize> = (0..3600).collect();
+        let dissected = nested_dissection(&position, &row_ptr, &col);
+        let (f_natural, f_dissected) = (
+            factor_entries(&natural, &row_ptr, &col),
+            factor_entries(&dissected, &row_ptr, &col),
+        );
+        println!("60×60 grid: factor entries {f_natural} natural, {f_dissected} dissected");
+        // Banded natural order: about n·nx = 216 000; nested dissection: O(n log n).
+        assert!(
+            (f_dissected as f64) < 0.5 * f_natural as f64,
+            "{f_dissected} vs {f_natural}"
+        );
+    }
+}
