@@ -229,7 +229,7 @@ impl Worker {
         match Simulation::new(&self.case) {
             Ok(mut sim) => {
                 // One core for the solver, the other for the window.
-                sim.solver.params.parallel_symbolic = false;
+                sim.solver.params.two_threads = false;
                 self.sim = Some(sim);
             }
             Err(e) => {

@@ -3,7 +3,8 @@
 //! α-shape (thesis §2.3): a Delaunay triangle is kept when its circumradius R < α·h, with h the
 //! initial particle spacing (a global h, as the open PFEM codes use). Triangles whose three nodes
 //! are wall nodes are dropped, since they would glue the solid to itself, unless one of their
-//! nodes has a fluid neighbour (PFEM3D's rule): that keeps the wetted corner of the flume, where
+//! nodes shares a Delaunay triangle of circumradius < α·h with a fluid node (PFEM3D's rule,
+//! which looks at every Delaunay neighbour): that keeps the wetted corner of the flume, where
 //! the Delaunay split of the corner cell makes an all-wall triangle that is water. Without it the
 //! fluid node beside the corner faces a void and is pushed into it. The free surface is made of
 //! the edges of kept triangles that have no kept neighbour across them and are not wall–wall
@@ -35,7 +36,7 @@ use spade::{DelaunayTriangulation, HasPosition, Point2, Triangulation};
 
 /// A node as spade sees it: a position and our index.
 #[derive(Debug, Clone, Copy)]
-pub struct Vertex {
+struct Vertex {
     pos: Point2<f64>,
     id: u32,
 }
@@ -47,7 +48,7 @@ impl HasPosition for Vertex {
     }
 }
 
-pub type Delaunay = DelaunayTriangulation<Vertex>;
+type Delaunay = DelaunayTriangulation<Vertex>;
 
 #[derive(Debug, thiserror::Error)]
 pub enum MeshError {
@@ -72,45 +73,133 @@ pub struct Mesh {
     previous_free_surface: Vec<bool>,
     /// Per node: belongs to at least one kept triangle.
     pub in_mesh: Vec<bool>,
-    /// Number of Delaunay triangles before the α-shape and wall filters.
-    pub delaunay_triangles: usize,
 }
 
-/// Stage 1: the Delaunay triangulation of every node, inserted one by one in Morton (Z-curve)
-/// order so that each insertion starts its walk from a neighbour (spade's last-used-vertex
-/// hint). spade's bulk loader sweeps a circle out from the centroid, which suits round clouds
-/// but not a flume 15–25 times longer than deep: on `flap_deep_water` (19 207 nodes) it took
-/// 33–36 ms per step against 15–18 ms this way, on the dam break (5 500) the two are alike.
-/// The triangles then also come out in space-filling order, which the later stages read.
+/// A Delaunay triangle small enough for the α-shape: its nodes counter-clockwise and the
+/// square of its circumradius.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Candidate {
+    pub nodes: [u32; 3],
+    pub r2: f64,
+}
+
+/// Below this many nodes the cloud is triangulated in one piece.
+const SPLIT_MIN_NODES: usize = 2_000;
+
+/// Stage 1: the Delaunay triangles of all nodes with circumradius below `max_r_m` and positive
+/// area, the only ones the α-shape can keep.
+///
+/// The cloud is cut at the median x into two pieces that overlap by `max_r_m` on each side of
+/// the cut, each piece is triangulated (on two threads with `two_threads`), and each keeps the
+/// triangles whose circumcentre lies on its side. That gives exactly the small triangles of
+/// the whole cloud: the circle of such a triangle has radius < `max_r_m`, so every node inside
+/// it belongs to the piece, which therefore has it empty (is Delaunay there) exactly when the
+/// whole cloud does. Where several nodes lie on one circle (the seeding lattice) the
+/// triangles that split it share the circumcentre, so they all come from the same piece. The
+/// cut is offset from the median node by 0.3 `max_r_m` (0.36 h at α = 1.2) so that it does
+/// not pass through a lattice row or the centre of a lattice cell.
+///
+/// Each piece is inserted point by point in Morton (Z-curve) order, so each insertion starts
+/// its walk from a neighbour (spade's last-used-vertex hint). spade's bulk loader sweeps a
+/// circle out from the centroid, which suits round clouds but not a flume 15–25 times longer
+/// than deep: on `flap_deep_water` (19 207 nodes) it took 33–36 ms per step against 15–18 ms
+/// in Morton order in one piece. The triangles then also come out in space-filling order,
+/// which the later stages read.
 pub fn triangulate(
     particles: &Particles,
-    scratch: &mut Vec<Vertex>,
-) -> Result<Delaunay, MeshError> {
-    scratch.clear();
-    scratch.extend(particles.position.iter().enumerate().map(|(i, p)| Vertex {
-        pos: Point2::new(p.x, p.y),
-        id: i as u32,
-    }));
+    max_r_m: f64,
+    two_threads: bool,
+) -> Result<Vec<Candidate>, MeshError> {
+    let n = particles.len();
+    let x = &particles.position;
+    let all = |_: f64| true;
+    if n < SPLIT_MIN_NODES {
+        return small_triangles(x, (0..n as u32).collect(), max_r_m, all);
+    }
+    let mut xs: Vec<f64> = x.iter().map(|p| p.x).collect();
+    let mid = n / 2;
+    xs.select_nth_unstable_by(mid, f64::total_cmp);
+    let x_cut = xs[mid] + 0.3 * max_r_m;
+    let band = 1.001 * max_r_m;
+    let left: Vec<u32> = (0..n as u32)
+        .filter(|&i| x[i as usize].x < x_cut + band)
+        .collect();
+    let right: Vec<u32> = (0..n as u32)
+        .filter(|&i| x[i as usize].x >= x_cut - band)
+        .collect();
+    if !x_cut.is_finite() || left.len() + right.len() > n + n / 2 {
+        // A short cloud (or a bad position, which the insertion reports).
+        return small_triangles(x, (0..n as u32).collect(), max_r_m, all);
+    }
+    let on_left = |cx: f64| cx < x_cut;
+    let on_right = |cx: f64| cx >= x_cut;
+    let (a, b) = if two_threads {
+        std::thread::scope(|s| {
+            let right_job = s.spawn(|| small_triangles(x, right, max_r_m, on_right));
+            let a = small_triangles(x, left, max_r_m, on_left);
+            let b = right_job.join().expect("the triangulation thread panicked");
+            (a, b)
+        })
+    } else {
+        (
+            small_triangles(x, left, max_r_m, on_left),
+            small_triangles(x, right, max_r_m, on_right),
+        )
+    };
+    let mut triangles = a?;
+    triangles.extend(b?);
+    Ok(triangles)
+}
+
+/// The triangles of the Delaunay triangulation of `nodes` with circumradius below `max_r_m`,
+/// positive area and a circumcentre x that `owned` accepts.
+fn small_triangles(
+    position: &[Vector2<f64>],
+    nodes: Vec<u32>,
+    max_r_m: f64,
+    owned: impl Fn(f64) -> bool,
+) -> Result<Vec<Candidate>, MeshError> {
+    let mut vertices: Vec<Vertex> = nodes
+        .into_iter()
+        .map(|i| {
+            let p = position[i as usize];
+            Vertex {
+                pos: Point2::new(p.x, p.y),
+                id: i,
+            }
+        })
+        .collect();
     let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    for v in scratch.iter() {
+    for v in &vertices {
         lo = [lo[0].min(v.pos.x), lo[1].min(v.pos.y)];
         hi = [hi[0].max(v.pos.x), hi[1].max(v.pos.y)];
     }
     // One scale for both axes, so that the curve's cells are square.
-    let cells_per_m =
-        f64::from(u16::MAX) / (hi[0] - lo[0]).max(hi[1] - lo[1]).max(f64::MIN_POSITIVE);
-    scratch.sort_by_cached_key(|v| {
+    let extent = (hi[0] - lo[0]).max(hi[1] - lo[1]);
+    let cells_per_m = f64::from(u16::MAX) / extent.max(f64::MIN_POSITIVE);
+    vertices.sort_by_cached_key(|v| {
         // A NaN or infinite position gives some key; its insertion then fails below.
         let qx = ((v.pos.x - lo[0]) * cells_per_m) as u16;
         let qy = ((v.pos.y - lo[1]) * cells_per_m) as u16;
         morton_key(qx, qy)
     });
-    let n = scratch.len();
-    let mut tri = Delaunay::with_capacity(n, 3 * n, 2 * n);
-    for v in scratch.drain(..) {
+    let count = vertices.len();
+    let mut tri = Delaunay::with_capacity(count, 3 * count, 2 * count);
+    for v in vertices {
         tri.insert(v).map_err(MeshError::Insertion)?;
     }
-    Ok(tri)
+    let max_r2 = max_r_m * max_r_m;
+    Ok(tri
+        .inner_faces()
+        .filter_map(|face| {
+            let (centre, r2) = face.circumcircle();
+            let keep = r2.is_finite() && r2 < max_r2 && face.area() > 0.0 && owned(centre.x);
+            keep.then(|| Candidate {
+                nodes: face.vertices().map(|v| v.data().id),
+                r2,
+            })
+        })
+        .collect())
 }
 
 /// The bits of x and y interleaved (x in the even bits).
@@ -127,7 +216,7 @@ fn morton_key(x: u16, y: u16) -> u32 {
 
 /// Stage 2: the α-shape, the all-wall filter and the free surface, written into `mesh`.
 pub fn alpha_shape(
-    tri: &Delaunay,
+    candidates: &[Candidate],
     particles: &Particles,
     alpha: f64,
     alpha_boundary: f64,
@@ -147,25 +236,26 @@ pub fn alpha_shape(
     mesh.free_surface.resize(n, false);
     mesh.in_mesh.clear();
     mesh.in_mesh.resize(n, false);
-    mesh.delaunay_triangles = tri.num_inner_faces();
 
     let is_wall = |i: u32| particles.kind[i as usize] == NodeKind::Wall;
-    // Per Delaunay face: its index in `mesh.triangles`, or u32::MAX when it is not kept.
-    let mut kept = vec![u32::MAX; tri.num_all_faces()];
-    for face in tri.inner_faces() {
-        let [a, b, c] = face.vertices().map(|v| v.data().id);
-        if is_wall(a) && is_wall(b) && is_wall(c) {
-            let wetted = face
-                .vertices()
-                .iter()
-                .any(|v| v.out_edges().any(|e| !is_wall(e.to().data().id)));
-            if !wetted {
-                continue;
+    // A wall node with a fluid node in one of its candidate triangles is wetted.
+    let mut wetted = vec![false; n];
+    for c in candidates {
+        if c.nodes.iter().any(|&i| !is_wall(i)) {
+            for &i in &c.nodes {
+                wetted[i as usize] = true;
             }
+        }
+    }
+    for c in candidates {
+        let [a, b, cc] = c.nodes;
+        if is_wall(a) && is_wall(b) && is_wall(cc) && !c.nodes.iter().any(|&i| wetted[i as usize]) {
+            continue;
         }
         if let Some(face_line) = paddle {
             // Nothing behind the paddle is water.
-            let centroid = [a, b, c]
+            let centroid = c
+                .nodes
                 .iter()
                 .map(|&i| particles.position[i as usize])
                 .sum::<Vector2<f64>>()
@@ -174,46 +264,61 @@ pub fn alpha_shape(
                 continue;
             }
         }
-        let (_, r2) = face.circumcircle();
-        if !(r2.is_finite() && r2 < max_r2 && face.area() > 0.0) {
+        if c.r2.is_nan() || c.r2 >= max_r2 {
             continue;
         }
-        if air_at_contact_line([a, b, c], particles, &mesh.previous_free_surface) {
+        if air_at_contact_line(c.nodes, particles, &mesh.previous_free_surface) {
             continue;
         }
         let on_boundary = |i: u32| is_wall(i) || mesh.previous_free_surface[i as usize];
-        if on_boundary(a) && on_boundary(b) && on_boundary(c) && r2 >= max_r2_boundary {
+        if c.nodes.iter().all(|&i| on_boundary(i)) && c.r2 >= max_r2_boundary {
             continue;
         }
-        {
-            kept[face.fix().index()] = mesh.triangles.len() as u32;
-            mesh.triangles.push([a, b, c]);
-            for v in [a, b, c] {
-                mesh.in_mesh[v as usize] = true;
-            }
+        mesh.triangles.push(c.nodes);
+        for v in c.nodes {
+            mesh.in_mesh[v as usize] = true;
         }
     }
-    for face in tri.inner_faces() {
-        let owner = kept[face.fix().index()];
-        if owner == u32::MAX {
-            continue;
+
+    // Boundary edges: an edge a → b of a kept triangle with no kept triangle holding b → a.
+    let mut first = vec![0u32; n + 1];
+    for t in &mesh.triangles {
+        for &v in t {
+            first[v as usize + 1] += 1;
         }
-        for edge in face.adjacent_edges() {
-            let across = edge.rev().face();
-            if !across.is_outer() && kept[across.fix().index()] != u32::MAX {
+    }
+    for i in 0..n {
+        first[i + 1] += first[i];
+    }
+    let mut cursor = first.clone();
+    let mut around = vec![0u32; 3 * mesh.triangles.len()];
+    for (k, t) in mesh.triangles.iter().enumerate() {
+        for &v in t {
+            around[cursor[v as usize] as usize] = k as u32;
+            cursor[v as usize] += 1;
+        }
+    }
+    let has_edge =
+        |t: &[u32; 3], from: u32, to: u32| (0..3).any(|e| t[e] == from && t[(e + 1) % 3] == to);
+    for (k, t) in mesh.triangles.iter().enumerate() {
+        for e in 0..3 {
+            let (from, to) = (t[e], t[(e + 1) % 3]);
+            let span = first[to as usize] as usize..first[to as usize + 1] as usize;
+            let shared = around[span]
+                .iter()
+                .any(|&o| has_edge(&mesh.triangles[o as usize], to, from));
+            if shared {
                 continue;
             }
-            let [from, to] = edge.vertices().map(|v| v.data().id);
             mesh.boundary_edges.push([from, to]);
-            mesh.boundary_edge_triangle.push(owner);
+            mesh.boundary_edge_triangle.push(k as u32);
             if is_wall(from) && is_wall(to) {
                 continue;
             }
             // Both ends touch the atmosphere: a wall node here is a contact point (the water
             // line on a wall, the bed just ahead of a front), at p = 0 like the fluid nodes.
-            for v in [from, to] {
-                mesh.free_surface[v as usize] = true;
-            }
+            mesh.free_surface[from as usize] = true;
+            mesh.free_surface[to as usize] = true;
         }
     }
 }
@@ -368,7 +473,7 @@ mod tests {
     fn a_block_of_water_meshes_to_its_area_with_the_top_free() {
         let h = 0.1;
         let p = square_block(10, h);
-        let tri = triangulate(&p, &mut Vec::new()).unwrap();
+        let tri = triangulate(&p, 1.3 * h, false).unwrap();
         let mut mesh = Mesh::default();
         alpha_shape(&tri, &p, 1.2, 1.0, h, None, &mut mesh);
         assert!((mesh.area(&p.position) - 1.0).abs() < 1e-12);
@@ -380,6 +485,52 @@ mod tests {
         }
         let (_, count) = mesh.components(p.len());
         assert_eq!(count, 1);
+    }
+
+    /// The triangles as sorted node triples, in sorted order.
+    fn triples(c: &[Candidate]) -> Vec<[u32; 3]> {
+        let mut t: Vec<[u32; 3]> = c
+            .iter()
+            .map(|c| {
+                let mut n = c.nodes;
+                n.sort_unstable();
+                n
+            })
+            .collect();
+        t.sort_unstable();
+        t
+    }
+
+    #[test]
+    fn the_two_pieces_give_the_small_triangles_of_the_whole_cloud() {
+        let h = 0.01;
+        for jitter in [0.0, 0.3] {
+            // A 90 × 30 lattice (exactly co-circular cells when not jittered) with a
+            // deterministic jitter of up to ±0.15 h.
+            let mut state = 12345u64;
+            let mut next = || {
+                state = state
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+            };
+            let fluid: Vec<Vector2<f64>> = (0..90 * 30)
+                .map(|k| {
+                    let (i, j) = ((k % 90) as f64, (k / 90) as f64);
+                    Vector2::new((i + jitter * next()) * h, (j + jitter * next()) * h)
+                })
+                .collect();
+            let p = Particles::new(&[], &fluid);
+            let max_r = 1.3 * h;
+            let split = triangulate(&p, max_r, true).unwrap();
+            let serial = triangulate(&p, max_r, false).unwrap();
+            let whole =
+                small_triangles(&p.position, (0..p.len() as u32).collect(), max_r, |_| true)
+                    .unwrap();
+            assert!(whole.len() > 2 * 89 * 29 - 10, "{} triangles", whole.len());
+            assert_eq!(triples(&split), triples(&whole), "jitter {jitter}");
+            assert_eq!(triples(&serial), triples(&whole), "jitter {jitter}");
+        }
     }
 
     #[test]
@@ -402,7 +553,7 @@ mod tests {
             0.0,
             Vector2::zeros(),
         );
-        let tri = triangulate(&p, &mut Vec::new()).unwrap();
+        let tri = triangulate(&p, 1.3 * h, false).unwrap();
         let mut mesh = Mesh::default();
         alpha_shape(&tri, &p, 1.3, 1.0, h, None, &mut mesh);
         assert!(!mesh.in_mesh[p.len() - 1]);

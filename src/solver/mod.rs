@@ -21,7 +21,7 @@ use crate::case::{
     TimeSettings,
 };
 use crate::fem::P1;
-use crate::mesh::{Mesh, MeshError, Vertex};
+use crate::mesh::{Mesh, MeshError};
 use nalgebra::Vector2;
 
 pub use pressure::PressureSystem;
@@ -64,8 +64,9 @@ pub struct SolverParams {
     /// A fluid speed above this stops the run as diverged, m/s (ten times the speed of a fall
     /// from the top of the flume, sqrt(2 g H)).
     pub speed_limit_m_s: f64,
-    /// Run the symbolic Cholesky analysis on a second thread (off: one core only).
-    pub parallel_symbolic: bool,
+    /// Use a second thread for half of the triangulation and for the symbolic Cholesky
+    /// analysis (off: one core only, as in the lab, which leaves the other to the window).
+    pub two_threads: bool,
 }
 
 impl SolverParams {
@@ -113,7 +114,7 @@ impl SolverParams {
             volume_recovery: s.volume_recovery,
             area_correction: s.area_correction,
             weak_surface_length_m: s.weak_surface_length_h * particles.spacing_m,
-            parallel_symbolic: true,
+            two_threads: true,
         }
     }
 }
@@ -238,7 +239,6 @@ pub struct Solver {
     pub params: SolverParams,
     /// The kept mesh of the last step (for observers: gauges, boundary, volume).
     pub mesh: Mesh,
-    vertices: Vec<Vertex>,
     /// Per kept triangle.
     elems: Vec<P1>,
     mu_e: Vec<f64>,
@@ -295,8 +295,9 @@ impl Solver {
 impl Solver {
     /// Stages 1–2 only: mesh the current cloud without advancing it (for t = 0 and observers).
     pub fn remesh(&mut self, particles: &Particles, flume: &Flume) -> Result<(), MeshError> {
-        let tri = crate::mesh::triangulate(particles, &mut self.vertices)?;
         let p = &self.params;
+        let max_r_m = p.alpha.max(p.alpha_boundary) * p.spacing_m;
+        let tri = crate::mesh::triangulate(particles, max_r_m, p.two_threads)?;
         crate::mesh::alpha_shape(
             &tri,
             particles,

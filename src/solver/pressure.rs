@@ -354,7 +354,7 @@ impl Solver {
         // the pattern itself.
         if self.params.pressure_solver == PressureSolver::Cholesky
             && m > 0
-            && self.params.parallel_symbolic
+            && self.params.two_threads
         {
             let (position, row_ptr, col) =
                 (sys.position.clone(), sys.row_ptr.clone(), sys.col.clone());
