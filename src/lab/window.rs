@@ -117,7 +117,7 @@ pub fn run(opts: LabOptions) -> anyhow::Result<()> {
         "surflab",
         native,
         Box::new(move |cc| {
-            re_viewer::customize_eframe_and_setup_renderer(cc)?;
+            setup_renderer(cc)?;
             let mut startup = re_viewer::StartupOptions::default();
             startup.hide_welcome_screen = true;
             let mut app = re_viewer::App::new(
@@ -140,6 +140,8 @@ pub fn run(opts: LabOptions) -> anyhow::Result<()> {
                     after_s: after,
                     requested: false,
                     opened: Instant::now(),
+                    frames_running: 0,
+                    running_since: None,
                 }),
                 _runtime: runtime,
             }))
@@ -150,6 +152,35 @@ pub fn run(opts: LabOptions) -> anyhow::Result<()> {
 
 fn re_crash_handler_install() {
     rerun::external::re_crash_handler::install_crash_handlers(re_viewer::build_info());
+}
+
+/// What `re_viewer::customize_eframe_and_setup_renderer` does, except that on a software
+/// rasterizer (lavapipe, llvmpipe: no GPU) the flume view renders without 4× multisampling.
+/// There the rasterizer threads take most of the window's CPU time, and every sample of the
+/// 2D view is shaded on the CPU.
+fn setup_renderer(
+    cc: &eframe::CreationContext<'_>,
+) -> Result<(), re_viewer::external::re_renderer::RenderContextError> {
+    use re_viewer::external::re_renderer::{MsaaMode, RenderConfig, RenderContext};
+    if let Some(state) = &cc.wgpu_render_state {
+        let on_cpu = state.adapter.get_info().device_type == eframe::wgpu::DeviceType::Cpu;
+        let render_ctx = RenderContext::new(
+            &state.adapter,
+            state.device.clone(),
+            state.queue.clone(),
+            state.target_format,
+            |caps| {
+                let mut config = RenderConfig::best_for_device_caps(caps);
+                if on_cpu && std::env::var_os("SURFLAB_MSAA").is_none() {
+                    config.msaa_mode = MsaaMode::Off;
+                }
+                config
+            },
+        )?;
+        state.renderer.write().callback_resources.insert(render_ctx);
+    }
+    re_viewer::external::re_ui::apply_style_and_install_loaders(&cc.egui_ctx);
+    Ok(())
 }
 
 fn tokio_runtime() -> anyhow::Result<tokio::runtime::Runtime> {
@@ -164,6 +195,9 @@ struct Screenshot {
     after_s: f64,
     requested: bool,
     opened: Instant,
+    /// Frames drawn since the solver first reported simulated time, and when that was.
+    frames_running: u32,
+    running_since: Option<Instant>,
 }
 
 struct LabApp {
@@ -199,6 +233,10 @@ impl LabApp {
             return;
         };
         let status = &self.panel.worker.status;
+        if status.t_s > 0.0 && !shot.requested {
+            shot.running_since.get_or_insert_with(Instant::now);
+            shot.frames_running += 1;
+        }
         let waited = shot.opened.elapsed();
         let ready = status.t_s >= shot.after_s
             || status.error.is_some()
@@ -221,11 +259,24 @@ impl LabApp {
                 .ok_or_else(|| "bad screenshot buffer".to_owned())
                 .and_then(|img| img.save(&shot.path).map_err(|e| e.to_string()));
             match result {
-                Ok(()) => eprintln!(
-                    "surflab: saved {} ({w}×{h}) at t = {:.3} s simulated",
-                    shot.path.display(),
-                    status.t_s
-                ),
+                Ok(()) => {
+                    eprintln!(
+                        "surflab: saved {} ({w}×{h}) at t = {:.3} s simulated",
+                        shot.path.display(),
+                        status.t_s
+                    );
+                    let running_s = shot
+                        .running_since
+                        .map_or(0.0, |t| t.elapsed().as_secs_f64());
+                    eprintln!(
+                        "surflab: the window drew {} frames in {running_s:.1} s while the solver ran \
+                         ({:.1} frames/s); solver: real-time factor {:.2}, {:.1} ms/step",
+                        shot.frames_running,
+                        f64::from(shot.frames_running) / running_s.max(1e-9),
+                        status.real_time_factor,
+                        status.ms_per_step
+                    );
+                }
                 Err(e) => eprintln!("surflab: cannot save {}: {e}", shot.path.display()),
             }
             ctx.send_viewport_cmd(egui::ViewportCommand::Close);
