@@ -118,8 +118,10 @@ pub fn run(opts: LabOptions) -> anyhow::Result<()> {
         native,
         Box::new(move |cc| {
             setup_renderer(cc)?;
-            let mut startup = re_viewer::StartupOptions::default();
-            startup.hide_welcome_screen = true;
+            let startup = re_viewer::StartupOptions {
+                hide_welcome_screen: true,
+                ..Default::default()
+            };
             let mut app = re_viewer::App::new(
                 re_viewer::MainThreadToken::i_promise_i_am_on_the_main_thread(),
                 re_viewer::build_info(),
