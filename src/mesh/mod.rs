@@ -73,6 +73,10 @@ pub struct Mesh {
     previous_free_surface: Vec<bool>,
     /// Per node: belongs to at least one kept triangle.
     pub in_mesh: Vec<bool>,
+    /// The kept triangles around each node i: `around[first[i]..first[i + 1]]` (indices into
+    /// `triangles`), for the boundary edges here and the pressure pattern.
+    first: Vec<u32>,
+    around: Vec<u32>,
 }
 
 /// A Delaunay triangle small enough for the α-shape: its nodes counter-clockwise and the
@@ -281,30 +285,14 @@ pub fn alpha_shape(
     }
 
     // Boundary edges: an edge a → b of a kept triangle with no kept triangle holding b → a.
-    let mut first = vec![0u32; n + 1];
-    for t in &mesh.triangles {
-        for &v in t {
-            first[v as usize + 1] += 1;
-        }
-    }
-    for i in 0..n {
-        first[i + 1] += first[i];
-    }
-    let mut cursor = first.clone();
-    let mut around = vec![0u32; 3 * mesh.triangles.len()];
-    for (k, t) in mesh.triangles.iter().enumerate() {
-        for &v in t {
-            around[cursor[v as usize] as usize] = k as u32;
-            cursor[v as usize] += 1;
-        }
-    }
+    mesh.index_triangles(n);
     let has_edge =
         |t: &[u32; 3], from: u32, to: u32| (0..3).any(|e| t[e] == from && t[(e + 1) % 3] == to);
     for (k, t) in mesh.triangles.iter().enumerate() {
         for e in 0..3 {
             let (from, to) = (t[e], t[(e + 1) % 3]);
-            let span = first[to as usize] as usize..first[to as usize + 1] as usize;
-            let shared = around[span]
+            let shared = mesh
+                .triangles_around(to as usize)
                 .iter()
                 .any(|&o| has_edge(&mesh.triangles[o as usize], to, from));
             if shared {
@@ -360,6 +348,48 @@ impl Mesh {
     /// Node removal between steps: keeps the per-node flags of the surviving nodes, in order.
     /// The triangles and edges refer to the old numbering and are cleared; the next remesh
     /// rebuilds them.
+    /// The kept triangles that have node `i` as a vertex (indices into `triangles`).
+    pub fn triangles_around(&self, i: usize) -> &[u32] {
+        match (self.first.get(i), self.first.get(i + 1)) {
+            (Some(&a), Some(&b)) => &self.around[a as usize..b as usize],
+            _ => &[],
+        }
+    }
+
+    /// Builds the node → kept-triangle index for `n` nodes.
+    fn index_triangles(&mut self, n: usize) {
+        self.first.clear();
+        self.first.resize(n + 1, 0);
+        for t in &self.triangles {
+            for &v in t {
+                self.first[v as usize + 1] += 1;
+            }
+        }
+        for i in 0..n {
+            self.first[i + 1] += self.first[i];
+        }
+        let mut cursor = self.first[..n].to_vec();
+        self.around.clear();
+        self.around.resize(3 * self.triangles.len(), 0);
+        for (k, t) in self.triangles.iter().enumerate() {
+            for &v in t {
+                self.around[cursor[v as usize] as usize] = k as u32;
+                cursor[v as usize] += 1;
+            }
+        }
+    }
+
+    /// A mesh of the given triangles over `n` nodes, with no free surface (for tests).
+    #[cfg(test)]
+    pub(crate) fn from_triangles(n: usize, triangles: Vec<[u32; 3]>) -> Mesh {
+        let mut mesh = Mesh {
+            triangles,
+            ..Default::default()
+        };
+        mesh.index_triangles(n);
+        mesh
+    }
+
     pub fn remove_nodes(&mut self, drop: &[bool]) {
         let keep = |v: &mut Vec<bool>| {
             let mut k = 0;
@@ -376,6 +406,8 @@ impl Mesh {
         self.triangles.clear();
         self.boundary_edges.clear();
         self.boundary_edge_triangle.clear();
+        self.first.clear();
+        self.around.clear();
     }
 
     /// Node insertion between steps: `count` new interior nodes at the end.

@@ -37,6 +37,7 @@
 use super::{Solver, StepError};
 use crate::case::PressureSolver;
 use crate::fem;
+use crate::mesh::Mesh;
 use crate::particles::Particles;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::SupernodalThreshold;
@@ -71,10 +72,8 @@ pub struct PressureSystem {
     /// Per kept triangle, the index in `val` of its entry (a, b) at `3 a + b` (local node
     /// numbers), `u32::MAX` where a or b has a prescribed pressure.
     slots: Vec<[u32; 9]>,
-    /// Scratch of `build_pattern`: the triangles of each row (CSR), the last row that listed
-    /// each column and the place of that column in it.
-    triangle_ptr: Vec<usize>,
-    row_triangles: Vec<u32>,
+    /// Scratch of `build_pattern`: the last row that listed each column and the place of that
+    /// column in it.
     last_row_of: Vec<u32>,
     slot_of: Vec<u32>,
 }
@@ -115,39 +114,13 @@ impl PressureSystem {
         self.node_of_row.len()
     }
 
-    /// The pattern of the node graph of `triangles` restricted to unknown nodes: the
-    /// triangles of each row are listed first, then each row takes the distinct unknowns of
-    /// its triangles (a marker per column, no sort of duplicates) and sorts them.
-    fn build_pattern(&mut self, triangles: &[[u32; 3]]) {
+    /// The pattern of the node graph of the mesh's kept triangles restricted to unknown nodes:
+    /// each row takes the distinct unknowns of the triangles around its node (a marker per
+    /// column, no sort of duplicates) and sorts them.
+    fn build_pattern(&mut self, mesh: &Mesh) {
         let n = self.unknowns();
+        let triangles = &mesh.triangles;
         let row_of_node = &self.row_of_node;
-        let tri_ptr = &mut self.triangle_ptr;
-        tri_ptr.clear();
-        tri_ptr.resize(n + 1, 0);
-        for t in triangles {
-            for &a in t {
-                let ra = row_of_node[a as usize];
-                if ra != NONE {
-                    tri_ptr[ra as usize + 1] += 1;
-                }
-            }
-        }
-        for r in 0..n {
-            tri_ptr[r + 1] += tri_ptr[r];
-        }
-        let row_triangles = &mut self.row_triangles;
-        row_triangles.clear();
-        row_triangles.resize(tri_ptr[n], 0);
-        let mut cursor = tri_ptr[..n].to_vec();
-        for (k, t) in triangles.iter().enumerate() {
-            for &a in t {
-                let ra = row_of_node[a as usize];
-                if ra != NONE {
-                    row_triangles[cursor[ra as usize]] = k as u32;
-                    cursor[ra as usize] += 1;
-                }
-            }
-        }
         // `last_row_of[c]` marks column c as listed in row r; `slot_of[c]` is then its place.
         let (last_row_of, slot_of) = (&mut self.last_row_of, &mut self.slot_of);
         last_row_of.clear();
@@ -161,7 +134,8 @@ impl PressureSystem {
         self.col.clear();
         for r in 0..n {
             let row_start = self.col.len();
-            let row_tris = &row_triangles[tri_ptr[r]..tri_ptr[r + 1]];
+            let node = self.node_of_row[r];
+            let row_tris = mesh.triangles_around(node as usize);
             for &k in row_tris {
                 for &b in &triangles[k as usize] {
                     let rb = row_of_node[b as usize];
@@ -177,8 +151,8 @@ impl PressureSystem {
             }
             for &k in row_tris {
                 let t = &triangles[k as usize];
-                let a = t.iter().position(|&i| row_of_node[i as usize] == r as u32);
-                let a = a.expect("the triangle lists the row's node");
+                let a = t.iter().position(|&i| i == node);
+                let a = a.expect("a triangle around a node has it as a vertex");
                 for (b, &j) in t.iter().enumerate() {
                     let rb = row_of_node[j as usize];
                     if rb != NONE {
@@ -346,7 +320,7 @@ impl Solver {
                 sys.position.push([x.x, x.y]);
             }
         }
-        sys.build_pattern(&mesh.triangles);
+        sys.build_pattern(mesh);
         sys.symbolic = None;
         self.symbolic_job = None;
         let m = sys.unknowns();
@@ -555,7 +529,7 @@ mod tests {
             node_of_row: vec![0, 1, 2],
             ..Default::default()
         };
-        sys.build_pattern(&[[0, 1, 2], [1, 3, 2]]);
+        sys.build_pattern(&Mesh::from_triangles(4, vec![[0, 1, 2], [1, 3, 2]]));
         assert_eq!(sys.row_ptr, vec![0, 3, 6, 9]);
         assert_eq!(sys.col, vec![0, 1, 2, 0, 1, 2, 0, 1, 2]);
     }
