@@ -268,7 +268,7 @@ pub fn alpha_shape(
                 continue;
             }
         }
-        if c.r2.is_nan() || c.r2 >= max_r2 {
+        if c.r2 >= max_r2 {
             continue;
         }
         if air_at_contact_line(c.nodes, particles, &mesh.previous_free_surface) {

@@ -70,6 +70,12 @@ pub struct SolverParams {
 }
 
 impl SolverParams {
+    /// The largest circumradius the α-shape keeps, α h (boundary triangles use the smaller
+    /// α_b h), so the triangulation needs to report nothing larger.
+    pub fn alpha_radius_m(&self) -> f64 {
+        self.alpha * self.spacing_m
+    }
+
     pub fn from_case(case: &Case) -> SolverParams {
         let mut p = Self::resolve(&case.fluid, &case.particles, &case.solver, &case.time);
         p.speed_limit_m_s = 10.0 * (2.0 * case.fluid.gravity_m_s2 * case.flume.height_m).sqrt();
@@ -296,8 +302,7 @@ impl Solver {
     /// Stages 1–2 only: mesh the current cloud without advancing it (for t = 0 and observers).
     pub fn remesh(&mut self, particles: &Particles, flume: &Flume) -> Result<(), MeshError> {
         let p = &self.params;
-        let max_r_m = p.alpha.max(p.alpha_boundary) * p.spacing_m;
-        let tri = crate::mesh::triangulate(particles, max_r_m, p.two_threads)?;
+        let tri = crate::mesh::triangulate(particles, p.alpha_radius_m(), p.two_threads)?;
         crate::mesh::alpha_shape(
             &tri,
             particles,

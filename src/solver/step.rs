@@ -45,9 +45,9 @@ impl Solver {
         );
 
         let changes = timed(&mut t.nodes_ms, || self.manage_nodes(particles));
-        let two_threads = self.params.two_threads;
+        let (max_r_m, two_threads) = (self.params.alpha_radius_m(), self.params.two_threads);
         let tri = timed(&mut t.remesh_ms, || {
-            mesh::triangulate(particles, alpha.max(alpha_b) * h, two_threads)
+            mesh::triangulate(particles, max_r_m, two_threads)
         })?;
         timed(&mut t.alpha_shape_ms, || {
             mesh::alpha_shape(
