@@ -77,6 +77,36 @@ pub struct Case {
     /// A passive damping layer at the right end, for flumes without a beach.
     #[serde(default)]
     pub absorber: Option<Absorber>,
+    /// Surf-zone diagnostics: undertow stations, spin-up, the reference frame of the data.
+    #[serde(default)]
+    pub surf: SurfSettings,
+}
+
+/// Surf-zone diagnostics (`[surf]`): where the undertow is measured and from when.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields, default)]
+pub struct SurfSettings {
+    /// Flume x of the origin of the reference data's frame: reports give x − x_origin_m
+    /// beside the flume x (Ting & Kirby's x = 0 is where the still water is 0.38 m deep).
+    pub x_origin_m: f64,
+    /// Undertow stations, flume x in m: period-averaged u(z) from the bed to the crests.
+    pub stations_x_m: Vec<f64>,
+    /// Height of the bins of the undertow profiles, m; 0 means half the particle spacing.
+    pub profile_dz_m: f64,
+    /// Wave periods from t = 0 before averaging starts (the spin-up); the averages then take
+    /// every whole period to the end of the run.
+    pub spin_up_periods: f64,
+}
+
+impl Default for SurfSettings {
+    fn default() -> Self {
+        Self {
+            x_origin_m: 0.0,
+            stations_x_m: Vec::new(),
+            profile_dz_m: 0.0,
+            spin_up_periods: 5.0,
+        }
+    }
 }
 
 /// How the paddle moves.
@@ -335,6 +365,11 @@ pub struct SolverSettings {
     /// their continuity equation and p = 0 holds weakly, as the Robin condition
     /// ∂p/∂n + p/(λh) = 0 on the free-surface edges (see `solver/pressure.rs`).
     pub weak_surface_length_h: f64,
+    /// Strength ε in [0, 1) of the surface filter: each step the velocity of a free-surface
+    /// fluid node loses ε/16 of the fourth difference of the velocities along the surface
+    /// (two neighbours each side). It removes ε of a node-to-node (2h) ripple per step and
+    /// ε (k h)⁴/16 of a smooth wave of wavenumber k (see `solver/filter.rs`); 0 turns it off.
+    pub surface_filter: f64,
 }
 
 impl Default for SolverSettings {
@@ -355,6 +390,7 @@ impl Default for SolverSettings {
             volume_recovery: false,
             area_correction: false,
             weak_surface_length_h: 0.0,
+            surface_filter: 0.0,
         }
     }
 }
@@ -775,6 +811,12 @@ impl Case {
             return err("time.cfl", format!("must lie in (0, 1], got {}", t.cfl));
         }
         non_negative("solver.weak_surface_length_h", s.weak_surface_length_h)?;
+        if !(0.0..1.0).contains(&s.surface_filter) {
+            return err(
+                "solver.surface_filter",
+                format!("must lie in [0, 1), got {}", s.surface_filter),
+            );
+        }
         non_negative("time.surface_wave_courant", t.surface_wave_courant)?;
         positive("output.interval_s", self.output.interval_s)?;
         if let Some(x) = self
@@ -815,6 +857,31 @@ impl Case {
         }
         if let Some(w) = &self.wavemaker {
             self.validate_wavemaker(w)?;
+        }
+        let surf = &self.surf;
+        if !surf.x_origin_m.is_finite() {
+            return err("surf.x_origin_m", "must be finite".into());
+        }
+        if let Some(x) = surf
+            .stations_x_m
+            .iter()
+            .find(|x| !(x.is_finite() && **x > 0.0 && **x < self.flume.length_m))
+        {
+            return err(
+                "surf.stations_x_m",
+                format!(
+                    "station at x = {x} m lies outside the flume (0, {}) m",
+                    self.flume.length_m
+                ),
+            );
+        }
+        non_negative("surf.profile_dz_m", surf.profile_dz_m)?;
+        non_negative("surf.spin_up_periods", surf.spin_up_periods)?;
+        if !surf.stations_x_m.is_empty() && self.wavemaker.is_none() {
+            return err(
+                "surf.stations_x_m",
+                "undertow stations average over wave periods: the case needs a [wavemaker]".into(),
+            );
         }
         match self.output.u1_range_m_s.as_slice() {
             [] => {}

@@ -1,5 +1,8 @@
 //! Observers that read the state after a step: integral quantities and simple probes.
 
+pub mod surf;
+pub mod undertow;
+
 use crate::simulation::{AreaBudget, Simulation};
 use nalgebra::Vector2;
 

@@ -321,6 +321,10 @@ impl Panel {
             s.real_time_factor, s.ms_per_step, s.steps_per_frame, self.ui_fps
         ));
         ui.label(format!("volume V/V₀ = {:.4}", s.volume_ratio));
+        ui.label(format!(
+            "observed breaker: {}",
+            s.breaker.as_deref().unwrap_or("none yet")
+        ));
         egui::CollapsingHeader::new("ms per stage").show(ui, |ui| {
             for (name, ms) in &s.stage_ms {
                 ui.label(format!("{name}: {ms:.2} ms"));

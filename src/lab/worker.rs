@@ -7,6 +7,7 @@
 
 use crate::case::Case;
 use crate::diagnostics;
+use crate::diagnostics::surf::{BreakingDetector, surface_profile};
 use crate::output::colormap::ColorScale;
 use crate::output::rrd::RrdLogger;
 use crate::output::run::{gauge_values, log_frame};
@@ -58,6 +59,8 @@ pub struct Status {
     pub error: Option<String>,
     /// Frames logged since the start.
     pub frames: u64,
+    /// The last breaker seen on the beach: type, where and when (None before the first).
+    pub breaker: Option<String>,
 }
 
 /// Sinks the recording stream always feeds (the embedded viewer; nothing in tests).
@@ -135,6 +138,8 @@ struct Worker {
     rtf_window: (f64, f64),
     /// When the last frame was logged: frames go to the viewer at most every `LOG_INTERVAL`.
     last_logged: Option<Instant>,
+    /// Watches the logged frames for breaking (idle without a beach and a wavemaker).
+    breaking: Option<BreakingDetector>,
 }
 
 /// Shortest wall time between two logged frames (about 16 frames of data per second): the
@@ -160,6 +165,7 @@ impl Worker {
             last_timings: None,
             rtf_window: (0.0, 0.0),
             last_logged: None,
+            breaking: None,
         };
         w.reset(case);
         w
@@ -230,6 +236,7 @@ impl Worker {
             Ok(mut sim) => {
                 // One core for the solver, the other for the window.
                 sim.solver.params.two_threads = false;
+                self.breaking = Some(BreakingDetector::new(&sim));
                 self.sim = Some(sim);
             }
             Err(e) => {
@@ -252,6 +259,8 @@ impl Worker {
             w.retune(motion, sim.time_s);
         }
         sim.case = case.clone();
+        // A new wave: breakers are counted afresh, from the next full-height wave on.
+        self.breaking = Some(BreakingDetector::new(sim).starting_at(sim.time_s));
         self.case = case;
     }
 
@@ -382,6 +391,24 @@ impl Worker {
         });
         if let Err(e) = log_frame(logger, sim, &m, timings.as_ref(), &gauges, false) {
             self.status.error = Some(format!("recording failed: {e}"));
+        }
+        if let Some(detector) = self.breaking.as_mut().filter(|d| d.active()) {
+            let profile = surface_profile(sim, 0.5 * sim.case.particles.spacing_m);
+            for event in detector.observe(sim, &profile) {
+                if let Err(e) = logger.log_text(sim.time_s, "events/breaking", &event) {
+                    self.status.error = Some(format!("recording failed: {e}"));
+                }
+            }
+            if let Some(b) = detector.breakers.last() {
+                self.status.breaker = Some(format!(
+                    "{} at x = {:.2} m (still depth {:.3} m, height {:.3} m), t = {:.1} s",
+                    b.observed.name(),
+                    b.x_b_m,
+                    b.h_b_m,
+                    b.height_b_m,
+                    b.t_b_s
+                ));
+            }
         }
         self.status.volume_ratio = m.volume_m2 / sim.initial_volume_m2;
         self.status.frames += 1;

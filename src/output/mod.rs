@@ -5,4 +5,5 @@ pub mod colormap;
 pub mod rrd;
 pub mod run;
 pub mod summary;
+pub mod surf;
 pub mod timeseries;

@@ -180,7 +180,7 @@ impl RrdLogger {
             scalar_paths: HashMap::new(),
         };
         logger.log_static_scene(flume_outline)?;
-        logger.send_blueprint()?;
+        logger.send_blueprint(false)?;
         Ok(logger)
     }
 
@@ -220,10 +220,39 @@ impl RrdLogger {
         Ok(())
     }
 
-    fn send_blueprint(&self) -> Result<(), RrdError> {
+    /// Sends the blueprint again with the surf-zone views beside the flume: the undertow
+    /// profiles (`/profiles`) and the space–time images (`/space_time`). A run calls it once
+    /// these are logged; the viewer then shows them as tabs of the left column.
+    pub fn add_surf_views(&self) -> Result<(), RrdError> {
+        self.send_blueprint(true)
+    }
+
+    fn send_blueprint(&self, surf_views: bool) -> Result<(), RrdError> {
         let flume = Spatial2DView::new("flume")
             .with_origin("/")
             .with_contents(["/world/**"]);
+        let left: rerun::blueprint::ContainerLike = if surf_views {
+            // Each picture with its legend below it.
+            let with_legend = |title: &str, origin: &str| -> rerun::blueprint::ContainerLike {
+                Vertical::new([
+                    Spatial2DView::new(title).with_origin(origin).into(),
+                    TextDocumentView::new("legend")
+                        .with_origin(format!("{origin}_legend"))
+                        .into(),
+                ])
+                .with_row_shares([6.0, 1.0])
+                .into()
+            };
+            Tabs::new([
+                flume.into(),
+                with_legend("undertow ū(z)", "/profiles"),
+                with_legend("η(x, t)", "/space_time/eta"),
+                with_legend("u1(x, t)", "/space_time/u1"),
+            ])
+            .into()
+        } else {
+            flume.into()
+        };
         // Physical series and per-stage timings have different units: one view each.
         let scalars = TimeSeriesView::new("diagnostics")
             .with_origin("/scalars")
@@ -244,7 +273,7 @@ impl RrdLogger {
         ]);
         let side = Vertical::new([scalars.into(), gauges.into(), info.into()])
             .with_row_shares([2.0, 2.0, 1.0]);
-        let root = Horizontal::new([flume.into(), side.into()]).with_column_shares([3.0, 2.0]);
+        let root = Horizontal::new([left, side.into()]).with_column_shares([3.0, 2.0]);
         // The viewer's own side panels start collapsed: the flume and the plots get the room.
         let blueprint = Blueprint::new(root)
             .with_blueprint_panel(BlueprintPanel::new().with_state(PanelState::Collapsed))

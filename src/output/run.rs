@@ -5,6 +5,7 @@
 use super::colormap::ColorScale;
 use super::rrd::{FrameView, RrdLogger};
 use super::summary::{GaugeSummary, Summary, median};
+use super::surf::{SurfRecorder, log_profiles, write_profiles};
 use super::timeseries::{GaugeWriter, TimeseriesWriter, gauge_columns};
 use crate::case::Case;
 use crate::diagnostics::{self, Integrals};
@@ -103,10 +104,12 @@ pub fn run(case: &Case, opts: &RunOptions) -> Result<RunOutcome, RunError> {
     let mut progress = Progress::new(opts.progress, end_s);
     let started = Instant::now();
 
+    let mut surf = SurfRecorder::new(&sim);
     let mut record =
         |sim: &Simulation, last: Option<&StageTimings>, last_dt: f64| -> Result<(), RunError> {
             let t0 = Instant::now();
             let m = diagnostics::integrals(sim);
+            let events = surf.record(sim);
             csv.row(&m, sim.initial_volume_m2, sim.steps, last_dt)
                 .map_err(io_err(&csv_path))?;
             let values = gauge_values(sim);
@@ -114,6 +117,13 @@ pub fn run(case: &Case, opts: &RunOptions) -> Result<RunOutcome, RunError> {
                 g.row(sim.time_s, &values).map_err(io_err(&gauge_path))?;
             }
             if let Some(rrd) = rrd.as_mut() {
+                for e in &events {
+                    rrd.log_text(sim.time_s, "events/breaking", e)
+                        .map_err(|e| RunError::Rrd {
+                            path: rrd_path.clone(),
+                            message: e.to_string(),
+                        })?;
+                }
                 let gauges: Vec<(&str, Option<f64>)> = gauge_columns
                     .iter()
                     .map(String::as_str)
@@ -165,9 +175,22 @@ pub fn run(case: &Case, opts: &RunOptions) -> Result<RunOutcome, RunError> {
     }
     let wall_s = started.elapsed().as_secs_f64();
     progress.finish();
+    let (breaking, surf_summary) = surf.finish(&sim, &gauge_records);
+    if let Some(s) = &surf_summary {
+        let path = opts.out_dir.join("profiles.csv");
+        write_profiles(&path, s).map_err(io_err(&path))?;
+    }
     if let Some(rrd) = rrd.as_mut() {
         if status != "ok" {
             let _ = rrd.log_text(sim.time_s, "events", &status);
+        }
+        if let Some(s) = &surf_summary {
+            log_profiles(rrd, s);
+        }
+        let height = case.wavemaker.as_ref().map_or(0.0, |w| w.height_m);
+        surf.log_space_time(rrd, height, rrd.scale());
+        if surf.active() {
+            let _ = rrd.add_surf_views();
         }
         rrd.flush();
     }
@@ -181,6 +204,8 @@ pub fn run(case: &Case, opts: &RunOptions) -> Result<RunOutcome, RunError> {
     };
     let mut summary = summarize(&sim, &series, &measured, status);
     summary.gauges = gauge_summary(case, &gauge_records);
+    summary.breaking = breaking;
+    summary.surf = surf_summary;
     let json_path = opts.out_dir.join("summary.json");
     let json = serde_json::to_string_pretty(&summary).expect("summary serialises");
     std::fs::write(&json_path, json + "\n").map_err(io_err(&json_path))?;
@@ -320,6 +345,8 @@ fn summarize(sim: &Simulation, series: &[Integrals], m: &Measured, status: Strin
         final_volume_ratio: series.last().map_or(f64::NAN, |m| m.volume_m2 / v0),
         status,
         gauges: Vec::new(),
+        breaking: None,
+        surf: None,
     }
 }
 

@@ -33,6 +33,12 @@ pub struct Summary {
     /// Each surface-elevation gauge: x, and its wave height and period over the last whole
     /// waves (null when fewer than one whole wave passed).
     pub gauges: Vec<GaugeSummary>,
+    /// Breaking on a beach: Iribarren number, predicted and observed type, breaking point.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub breaking: Option<crate::diagnostics::surf::BreakingSummary>,
+    /// Wave height, mean level and undertow averaged over whole periods after the spin-up.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub surf: Option<super::surf::SurfSummary>,
 }
 
 #[derive(Debug, Clone, Serialize)]

@@ -8,6 +8,7 @@
 mod cg;
 mod correct;
 mod elements;
+mod filter;
 mod motion;
 mod nodes;
 mod ordering;
@@ -61,6 +62,8 @@ pub struct SolverParams {
     pub area_correction: bool,
     /// Robin length of the weak free-surface condition in m; 0 = strong p = 0.
     pub weak_surface_length_m: f64,
+    /// Strength of the fourth-difference filter of the surface velocities (0: off).
+    pub surface_filter: f64,
     /// A fluid speed above this stops the run as diverged, m/s (ten times the speed of a fall
     /// from the top of the flume, sqrt(2 g H)).
     pub speed_limit_m_s: f64,
@@ -120,6 +123,7 @@ impl SolverParams {
             volume_recovery: s.volume_recovery,
             area_correction: s.area_correction,
             weak_surface_length_m: s.weak_surface_length_h * particles.spacing_m,
+            surface_filter: s.surface_filter,
             two_threads: true,
         }
     }

@@ -422,11 +422,25 @@ impl Solver {
     }
 
     /// Whether node `i` gets its pressure imposed as a free-surface node: always with the
-    /// strong condition; with the weak one only wall contact points do (fluid nodes keep their
-    /// row).
+    /// strong condition; with the weak one, wall contact points and the fluid surface nodes of
+    /// thin water (no interior fluid node in any kept triangle around them: a jet, a film, a
+    /// drop touching down), where a Robin row has no interior pressure to lean on and the
+    /// breaking crest of Ting & Kirby's wave blew up (47 m/s at 11.3 s); the other fluid
+    /// surface nodes keep their row.
     fn surface_pinned(&self, particles: &Particles, i: usize) -> bool {
-        self.mesh.free_surface[i]
-            && !(self.params.weak_surface_length_m > 0.0 && particles.is_fluid(i))
+        if !self.mesh.free_surface[i] {
+            return false;
+        }
+        if !(self.params.weak_surface_length_m > 0.0 && particles.is_fluid(i)) {
+            return true;
+        }
+        let interior =
+            |j: u32| particles.is_fluid(j as usize) && !self.mesh.free_surface[j as usize];
+        !self
+            .mesh
+            .triangles_around(i)
+            .iter()
+            .any(|&t| self.mesh.triangles[t as usize].iter().any(|&j| interior(j)))
     }
 
     /// The weak free-surface condition: on each free-surface edge of length ℓ, the Robin term

@@ -9,6 +9,7 @@
 //!    free surface, strongly or weakly (the pattern is built right after the α-shape, so that its symbolic
 //!    factorisation runs on the second core during stages 3–5);
 //! 6. `correct`: uⁿ⁺¹ = ũ + Δt M⁻¹ Dᵀ(pⁿ⁺¹ − γpⁿ), and π from pⁿ⁺¹;
+//!    then (optional) the fourth-difference filter of the surface velocities (`filter.rs`);
 //! 7. `move`: xⁿ⁺¹ = xⁿ + Δt uⁿ⁺¹ (thesis eq. 2.59), then the wall guard, then (optional)
 //!    the volume recovery on the free surface (`volume.rs`).
 //!
@@ -86,6 +87,7 @@ impl Solver {
             halvings += 1;
         };
 
+        timed(&mut t.correct_ms, || self.filter_surface(particles));
         let guarded = timed(&mut t.move_ms, || self.move_particles(particles, flume, dt))?;
         let area_after_move = self.mesh.area(&particles.position);
         let recovered = match self.volume_target_m2 {

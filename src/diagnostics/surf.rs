@@ -1,0 +1,511 @@
+//! Surf-zone observers: the free surface of the main body sampled along x, breaking onset and
+//! breaker type, and the period-averaged flow at undertow stations.
+//!
+//! All of them read the simulation between steps; none changes it. Heights here are absolute
+//! (m above the flume floor) unless a name says "above still water".
+
+use crate::simulation::Simulation;
+use crate::waves::breaker::{self, BreakerType};
+use nalgebra::Vector2;
+
+/// The free surface of the main body of water at one instant, sampled every `dx_m` from x = 0.
+///
+/// Each sample holds the crossings of the vertical line with the outer boundary of the main
+/// body, wall–wall edges left out (the bed and the walls are not free surface) and the edges of
+/// enclosed air cavities left out (they are reported in `cavities`). One crossing is an ordinary
+/// surface; three or more mean the surface folds over the line: an overturning face or jet.
+#[derive(Debug, Clone, Default)]
+pub struct SurfaceProfile {
+    pub dx_m: f64,
+    /// Per sample: (y, u1) at each crossing, highest first; y in m, u1 in m/s.
+    pub crossings: Vec<Vec<(f64, f64)>>,
+    /// Enclosed air cavities of the main body larger than 3 h²: (centroid, area in m²).
+    pub cavities: Vec<(Vector2<f64>, f64)>,
+}
+
+impl SurfaceProfile {
+    pub fn x_m(&self, k: usize) -> f64 {
+        k as f64 * self.dx_m
+    }
+
+    /// Height of the highest crossing at sample `k` (`None` where no water stands).
+    pub fn top(&self, k: usize) -> Option<f64> {
+        self.crossings[k].first().map(|c| c.0)
+    }
+
+    /// The sample nearest to `x_m`.
+    pub fn index(&self, x_m: f64) -> usize {
+        ((x_m / self.dx_m).round().max(0.0) as usize).min(self.crossings.len().saturating_sub(1))
+    }
+}
+
+/// Samples the free surface of the main body of `sim` every `dx_m`.
+pub fn surface_profile(sim: &Simulation, dx_m: f64) -> SurfaceProfile {
+    let p = &sim.particles;
+    let mesh = &sim.solver.mesh;
+    let h = sim.case.particles.spacing_m;
+    let samples = (sim.case.flume.length_m / dx_m).floor() as usize + 1;
+    let mut out = SurfaceProfile {
+        dx_m,
+        crossings: vec![Vec::new(); samples],
+        cavities: Vec::new(),
+    };
+    let (label, main) = mesh.main_body(p);
+    let Some(main) = main else {
+        return out;
+    };
+    // Boundary loops of the main body: boundary edges joined through shared nodes. Edges run
+    // with the water on their left, so a loop's Σ (x_a y_b − x_b y_a)/2 is its enclosed area,
+    // positive for the outer boundary and negative around a hole.
+    let edges: Vec<[usize; 2]> = mesh
+        .boundary_edges
+        .iter()
+        .map(|e| [e[0] as usize, e[1] as usize])
+        .filter(|e| label[e[0]] == main && label[e[1]] == main)
+        .collect();
+    let mut parent: Vec<usize> = (0..edges.len()).collect();
+    fn find(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    let mut first_edge_at = std::collections::HashMap::with_capacity(2 * edges.len());
+    for (k, e) in edges.iter().enumerate() {
+        for v in e {
+            if let Some(&other) = first_edge_at.get(v) {
+                let (a, b) = (find(&mut parent, k), find(&mut parent, other));
+                parent[a] = b;
+            } else {
+                first_edge_at.insert(*v, k);
+            }
+        }
+    }
+    let mut area = vec![0.0; edges.len()];
+    let mut centroid = vec![Vector2::zeros(); edges.len()];
+    let mut all_fluid = vec![true; edges.len()];
+    for (k, e) in edges.iter().enumerate() {
+        let r = find(&mut parent, k);
+        let (a, b) = (p.position[e[0]], p.position[e[1]]);
+        let cross = a.x * b.y - b.x * a.y;
+        area[r] += 0.5 * cross;
+        centroid[r] += (a + b) * cross / 6.0;
+        all_fluid[r] &= p.is_fluid(e[0]) && p.is_fluid(e[1]);
+    }
+    let mut is_hole = vec![false; edges.len()];
+    for k in 0..edges.len() {
+        if parent[k] == k && area[k] < 0.0 {
+            is_hole[k] = true;
+            if all_fluid[k] && -area[k] > 3.0 * h * h {
+                out.cavities.push((centroid[k] / area[k], -area[k]));
+            }
+        }
+    }
+    for (k, e) in edges.iter().enumerate() {
+        if is_hole[find(&mut parent, k)] || (!p.is_fluid(e[0]) && !p.is_fluid(e[1])) {
+            continue;
+        }
+        let (a, b) = (p.position[e[0]], p.position[e[1]]);
+        let (ua, ub) = (p.velocity[e[0]].x, p.velocity[e[1]].x);
+        let (lo, hi) = if a.x <= b.x { (a.x, b.x) } else { (b.x, a.x) };
+        if hi == lo {
+            continue;
+        }
+        // Samples with lo ≤ x < hi: a line through a node is crossed once, not twice.
+        let first = (lo / dx_m).ceil().max(0.0) as usize;
+        let mut s = first;
+        while s < samples && (s as f64) * dx_m < hi {
+            let x = s as f64 * dx_m;
+            let f = (x - a.x) / (b.x - a.x);
+            out.crossings[s].push((a.y + f * (b.y - a.y), ua + f * (ub - ua)));
+            s += 1;
+        }
+    }
+    for c in &mut out.crossings {
+        c.sort_by(|a, b| b.0.total_cmp(&a.0));
+    }
+    out
+}
+
+/// What one breaker did, measured from the surface.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Breaker {
+    /// Type decided from what follows the onset (see [`classify`]).
+    pub observed: BreakerType,
+    /// What triggered the onset: "kinematic" (crest particle faster than 0.85 c), "overturning"
+    /// (the surface folds over a vertical line) or "steep_face" (front steeper than 60°).
+    pub onset: &'static str,
+    /// Crest position at onset, flume x, m.
+    pub x_b_m: f64,
+    /// Still-water depth under the crest at onset, m.
+    pub h_b_m: f64,
+    /// Crest height above the preceding trough at onset, m.
+    pub height_b_m: f64,
+    pub t_b_s: f64,
+    /// Longest horizontal reach of an overturned part of the surface within half a period of
+    /// the onset, m.
+    pub overturn_reach_m: f64,
+    /// An enclosed air cavity appeared within half a period of the onset.
+    pub cavity: bool,
+    /// The front was steeper than 60° at some time within half a period of the onset.
+    pub steep_face: bool,
+}
+
+/// Surf-zone features of a breaker, to a type. Thresholds (method.md §6, with h_b / H_b
+/// separating breaking offshore of the shoreline from breaking on it):
+/// - offshore (h_b ≥ 0.5 H_b): plunging when the overturned part reaches 0.5 H_b or more (a
+///   plunging jet lands about a wave height ahead of the crest; a spilling crest's roller is
+///   a fraction of it), spilling otherwise;
+/// - at the shoreline (h_b < 0.5 H_b): plunging when a jet reaches 0.5 H_b and traps air,
+///   collapsing otherwise (the front steepened or folded where the water ends).
+pub fn classify(h_b_m: f64, height_b_m: f64, reach_m: f64, cavity: bool) -> BreakerType {
+    if h_b_m >= 0.5 * height_b_m {
+        if reach_m >= 0.5 * height_b_m {
+            BreakerType::Plunging
+        } else {
+            BreakerType::Spilling
+        }
+    } else if cavity && reach_m >= 0.5 * height_b_m {
+        BreakerType::Plunging
+    } else {
+        BreakerType::Collapsing
+    }
+}
+
+/// Fixed quantities of a flume with a beach and a wavemaker.
+#[derive(Debug, Clone)]
+struct BeachSetup {
+    g: f64,
+    period_s: f64,
+    height_m: f64,
+    h: f64,
+    /// Absolute still-water level over the beach, m.
+    level_m: f64,
+    /// Crests are searched between these x.
+    x_min_m: f64,
+    x_max_m: f64,
+    /// Onsets before this time belong to the ramped first waves.
+    gate_s: f64,
+}
+
+/// The onset being watched.
+#[derive(Debug, Clone, Copy)]
+struct Watch {
+    breaker: Breaker,
+    until_s: f64,
+    cavities_at_onset: usize,
+}
+
+/// Watches every output frame for breaking; one per run.
+#[derive(Debug, Clone)]
+pub struct BreakingDetector {
+    setup: Option<BeachSetup>,
+    pub iribarren: f64,
+    pub predicted: Option<BreakerType>,
+    watch: Option<Watch>,
+    /// Every breaker seen after the gate, in time order.
+    pub breakers: Vec<Breaker>,
+    /// Highest water above still level shoreward of the still shoreline, m.
+    pub run_up_m: f64,
+    shoreline_x_m: f64,
+}
+
+/// Breaking in `summary.json`.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct BreakingSummary {
+    pub iribarren: f64,
+    pub predicted: &'static str,
+    /// The most frequent type among the breakers seen (the first one on a tie), `surging` when
+    /// no wave broke but the water ran up the beach, `none` otherwise.
+    pub observed: &'static str,
+    /// The first breaker's point (flume x), depth, height and time; null when none broke.
+    pub x_b_m: Option<f64>,
+    /// `x_b_m − surf.x_origin_m`: the breaking point in the reference data's frame.
+    pub x_b_data_frame_m: Option<f64>,
+    pub h_b_m: Option<f64>,
+    #[serde(rename = "H_b_m")]
+    pub height_b_m: Option<f64>,
+    pub t_b_s: Option<f64>,
+    /// Means over all breakers seen.
+    pub x_b_mean_m: Option<f64>,
+    #[serde(rename = "H_b_mean_m")]
+    pub height_b_mean_m: Option<f64>,
+    pub run_up_m: f64,
+    pub breakers: Vec<Breaker>,
+}
+
+impl BreakingDetector {
+    /// A detector for `sim`'s case: active with a beach and a wavemaker, idle otherwise.
+    pub fn new(sim: &Simulation) -> Self {
+        let case = &sim.case;
+        let g = case.fluid.gravity_m_s2;
+        let mut out = Self {
+            setup: None,
+            iribarren: f64::NAN,
+            predicted: None,
+            watch: None,
+            breakers: Vec::new(),
+            run_up_m: 0.0,
+            shoreline_x_m: f64::NAN,
+        };
+        let (Some(beach), Some(w)) = (&case.flume.beach, &case.wavemaker) else {
+            return out;
+        };
+        out.iribarren = breaker::iribarren(beach.slope, w.height_m, w.period_s, g);
+        out.predicted = Some(breaker::predicted_type(out.iribarren));
+        let level = case.still_level_at(beach.toe_x_m).unwrap_or(0.0);
+        let depth = case.paddle_depth_m().unwrap_or(level);
+        out.shoreline_x_m = beach.toe_x_m + level / beach.slope;
+        let wavelength = crate::waves::linear::wavelength(w.period_s, depth, g).unwrap_or(0.0);
+        let celerity = wavelength / w.period_s;
+        let h = case.particles.spacing_m;
+        // The first full-height wave leaves the paddle after the ramp and reaches the toe
+        // (toe − paddle)/c later; breakers before it are the ramp's.
+        let travel = (beach.toe_x_m - w.x_m).max(0.0) / celerity.max(1e-9);
+        out.setup = Some(BeachSetup {
+            g,
+            period_s: w.period_s,
+            height_m: w.height_m,
+            h,
+            level_m: level,
+            x_min_m: (beach.toe_x_m - 0.25 * wavelength).max(w.x_m + 0.25 * wavelength),
+            x_max_m: case.flume.length_m - 3.0 * h,
+            gate_s: w.ramp_periods * w.period_s + travel,
+        });
+        out
+    }
+
+    /// The same detector for a wave that starts (ramps up) at `t0_s`, as when the lab changes
+    /// the wave during a run: breakers count from `t0_s` plus the ramp and the travel time.
+    pub fn starting_at(mut self, t0_s: f64) -> Self {
+        if let Some(s) = self.setup.as_mut() {
+            s.gate_s += t0_s;
+        }
+        self
+    }
+
+    pub fn active(&self) -> bool {
+        self.setup.is_some()
+    }
+
+    /// Looks at one frame; returns the events to log (onset, classification).
+    pub fn observe(&mut self, sim: &Simulation, profile: &SurfaceProfile) -> Vec<String> {
+        let Some(s) = self.setup.clone() else {
+            return Vec::new();
+        };
+        let t = sim.time_s;
+        let mut events = Vec::new();
+        // Run-up: the highest water shoreward of the still shoreline.
+        let k0 = profile.index(self.shoreline_x_m);
+        for k in k0..profile.crossings.len() {
+            if let Some(y) = profile.top(k) {
+                self.run_up_m = self.run_up_m.max(y - s.level_m);
+            }
+        }
+        let k_min = profile.index(s.x_min_m);
+        let k_max = profile.index(s.x_max_m);
+        let span = |m: f64| ((m / profile.dx_m).round() as usize).max(1);
+        let face_span = span(2.0 * s.h);
+
+        // Overturned runs: contiguous samples with three or more crossings.
+        let mut runs: Vec<(f64, f64)> = Vec::new();
+        let mut start: Option<usize> = None;
+        for k in k_min..=k_max {
+            let folded = profile.crossings[k].len() >= 3;
+            match (folded, start) {
+                (true, None) => start = Some(k),
+                (false, Some(a)) => {
+                    runs.push((profile.x_m(a), profile.x_m(k)));
+                    start = None;
+                }
+                _ => {}
+            }
+        }
+        if let Some(a) = start {
+            runs.push((profile.x_m(a), profile.x_m(k_max + 1)));
+        }
+        let steep = |k: usize| -> bool {
+            let (Some(a), Some(b)) = (profile.top(k), profile.top(k + face_span)) else {
+                return false;
+            };
+            (a - b) / (face_span as f64 * profile.dx_m) > 3f64.sqrt()
+        };
+
+        if let Some(w) = &mut self.watch {
+            // Follow the breaker for half a period: its longest jet, new cavities, a steep face.
+            let lo = w.breaker.x_b_m - 0.25 * s.period_s * (s.g * s.level_m).sqrt();
+            for (a, b) in &runs {
+                if *b >= lo {
+                    w.breaker.overturn_reach_m = w.breaker.overturn_reach_m.max(b - a);
+                }
+            }
+            if profile.cavities.len() > w.cavities_at_onset {
+                w.breaker.cavity = true;
+            }
+            let k_lo = profile.index(lo).max(k_min);
+            if (k_lo..k_max.saturating_sub(face_span)).any(steep) {
+                w.breaker.steep_face = true;
+            }
+            if t >= w.until_s {
+                let mut b = w.breaker;
+                b.observed = classify(b.h_b_m, b.height_b_m, b.overturn_reach_m, b.cavity);
+                events.push(format!(
+                    "breaker at t = {:.2} s classified {}: jet reach {:.3} m, air cavity {}, front steeper than 60°: {}",
+                    b.t_b_s,
+                    b.observed.name(),
+                    b.overturn_reach_m,
+                    if b.cavity { "yes" } else { "no" },
+                    if b.steep_face { "yes" } else { "no" },
+                ));
+                self.breakers.push(b);
+                self.watch = None;
+            }
+            return events;
+        }
+        if t < s.gate_s {
+            return events;
+        }
+        // A new onset must belong to a new wave: not the bore of the last breaker.
+        if let Some(last) = self.breakers.last()
+            && t - last.t_b_s < 0.75 * s.period_s
+        {
+            return events;
+        }
+
+        // Crests: local maxima of the top surface at least H/4 above still water.
+        let mut onset: Option<(f64, &'static str, f64)> = None;
+        let mut k = k_min + 1;
+        while k < k_max && onset.is_none() {
+            let (Some(y), Some(yl), Some(yr)) =
+                (profile.top(k), profile.top(k - 1), profile.top(k + 1))
+            else {
+                k += 1;
+                continue;
+            };
+            let x = profile.x_m(k);
+            let crest_above = y - s.level_m;
+            if !(y >= yl && y > yr && crest_above >= 0.25 * s.height_m) {
+                k += 1;
+                continue;
+            }
+            let depth = s.level_m - sim.case.bed_y_at(x);
+            let reach_near = runs
+                .iter()
+                .filter(|(a, b)| {
+                    *b >= x - 2.0 * s.h
+                        && *a <= x + 0.5 * s.period_s * (s.g * depth.max(s.h)).sqrt()
+                })
+                .map(|(a, b)| b - a)
+                .fold(0.0, f64::max);
+            let steep_near = (k..(k + span(0.25 * s.period_s * (s.g * depth.max(s.h)).sqrt())))
+                .take_while(|&j| j + face_span <= k_max)
+                .any(steep);
+            // A fold over 2h or more: one particle above the surface is not a jet.
+            if reach_near >= 2.0 * s.h {
+                onset = Some((x, "overturning", reach_near));
+            } else if steep_near {
+                onset = Some((x, "steep_face", 0.0));
+            } else if depth >= 0.5 * s.height_m {
+                // Kinematic: the fastest fluid particle of the crest against the crest's speed,
+                // linear celerity at the local depth with the finite-amplitude factor.
+                let c = crate::waves::linear::celerity(s.period_s, depth, s.g).unwrap_or(f64::NAN)
+                    * (1.0 + crest_above / depth).sqrt();
+                let p = &sim.particles;
+                let u = (0..p.len())
+                    .filter(|&i| p.is_fluid(i) && sim.solver.mesh.in_mesh[i])
+                    .filter(|&i| {
+                        let q = p.position[i];
+                        (q.x - x).abs() <= 2.0 * s.h && q.y >= y - 2.0 * s.h
+                    })
+                    .map(|i| p.velocity[i].x)
+                    .fold(f64::NEG_INFINITY, f64::max);
+                if u >= 0.85 * c {
+                    onset = Some((x, "kinematic", 0.0));
+                }
+            }
+            k += 1;
+        }
+        let Some((x_b, trigger, reach_b)) = onset else {
+            return events;
+        };
+        let depth = (s.level_m - sim.case.bed_y_at(x_b)).max(0.0);
+        let k_b = profile.index(x_b);
+        let wavelength = s.period_s * (s.g * depth.max(s.h)).sqrt();
+        let k_back = profile.index(x_b - 0.5 * wavelength).max(k_min);
+        let crest = profile.top(k_b).unwrap_or(s.level_m);
+        let trough = (k_back..=k_b)
+            .filter_map(|k| profile.top(k))
+            .fold(crest, f64::min);
+        let breaker = Breaker {
+            observed: BreakerType::Spilling,
+            onset: trigger,
+            x_b_m: x_b,
+            h_b_m: depth,
+            height_b_m: crest - trough,
+            t_b_s: t,
+            overturn_reach_m: if trigger == "overturning" {
+                reach_b
+            } else {
+                0.0
+            },
+            cavity: false,
+            steep_face: trigger == "steep_face",
+        };
+        events.push(format!(
+            "breaking onset ({trigger}) at t = {t:.2} s, x = {x_b:.3} m, still depth {depth:.3} m, crest height {:.3} m",
+            breaker.height_b_m
+        ));
+        self.watch = Some(Watch {
+            breaker,
+            until_s: t + 0.5 * s.period_s,
+            cavities_at_onset: profile.cavities.len(),
+        });
+        events
+    }
+
+    /// The summary of the run (`None` without a beach and a wavemaker). `x_origin_m` shifts
+    /// x_b into the reference data's frame.
+    pub fn summary(&self, x_origin_m: f64) -> Option<BreakingSummary> {
+        let s = self.setup.as_ref()?;
+        let first = self.breakers.first();
+        let observed = if self.breakers.is_empty() {
+            if self.run_up_m >= 0.25 * s.height_m {
+                "surging"
+            } else {
+                "none"
+            }
+        } else {
+            let mut best = (0, self.breakers[0].observed);
+            for b in &self.breakers {
+                let n = self
+                    .breakers
+                    .iter()
+                    .filter(|o| o.observed == b.observed)
+                    .count();
+                if n > best.0 {
+                    best = (n, b.observed);
+                }
+            }
+            best.1.name()
+        };
+        let mean = |f: fn(&Breaker) -> f64| {
+            (!self.breakers.is_empty())
+                .then(|| self.breakers.iter().map(f).sum::<f64>() / self.breakers.len() as f64)
+        };
+        Some(BreakingSummary {
+            iribarren: self.iribarren,
+            predicted: self.predicted.map_or("none", BreakerType::name),
+            observed,
+            x_b_m: first.map(|b| b.x_b_m),
+            x_b_data_frame_m: first.map(|b| b.x_b_m - x_origin_m),
+            h_b_m: first.map(|b| b.h_b_m),
+            height_b_m: first.map(|b| b.height_b_m),
+            t_b_s: first.map(|b| b.t_b_s),
+            x_b_mean_m: mean(|b| b.x_b_m),
+            height_b_mean_m: mean(|b| b.height_b_m),
+            run_up_m: self.run_up_m,
+            breakers: self.breakers.clone(),
+        })
+    }
+}
