@@ -11,7 +11,7 @@
 //! u_i ← u_i − (ε/16) (u_{i−2} − 4 u_{i−1} + 6 u_i − 4 u_{i+1} + u_{i+2}).
 //!
 //! On a uniform chain a mode of wavenumber k loses ε (2 − 2 cos kh)²/16 per step: all of ε for
-//! the 2h ripple, ε/4 at 4h, ε (kh)⁴/16 for a wave (5·10⁻⁵ ε per step for L = 0.5 m at
+//! the 2h ripple, ε/4 at 4h, ε (kh)⁴/16 for a wave (2.5·10⁻⁴ ε per step for L = 0.5 m at
 //! h = 2 cm). Nodes where the surface branches (more than one edge in or out), touches a wall
 //! or ends within two nodes are left alone. The filter acts on the corrected velocity uⁿ⁺¹,
 //! which the move then commits.
