@@ -109,7 +109,7 @@ pub fn run(case: &Case, opts: &RunOptions) -> Result<RunOutcome, RunError> {
         |sim: &Simulation, last: Option<&StageTimings>, last_dt: f64| -> Result<(), RunError> {
             let t0 = Instant::now();
             let m = diagnostics::integrals(sim);
-            let events = surf.record(sim);
+            let events = surf.record(sim, m.volume_m2);
             csv.row(&m, sim.initial_volume_m2, sim.steps, last_dt)
                 .map_err(io_err(&csv_path))?;
             let values = gauge_values(sim);

@@ -91,13 +91,13 @@ impl SurfRecorder {
         self.detector.active() || !self.stations.is_empty()
     }
 
-    /// Observes one output frame; returns the breaking events to log.
-    pub fn record(&mut self, sim: &Simulation) -> Vec<String> {
+    /// Observes one output frame, whose water area the caller has measured (`volume_m2`, from
+    /// `diagnostics::integrals`); returns the breaking events to log.
+    pub fn record(&mut self, sim: &Simulation, volume_m2: f64) -> Vec<String> {
         self.stations.record(sim);
         if self.active() {
-            let v = sim.solver.mesh.area(&sim.particles.position);
             self.volume_change
-                .push((sim.time_s, v - sim.initial_volume_m2));
+                .push((sim.time_s, volume_m2 - sim.initial_volume_m2));
         }
         let Some(st) = self.space_time.as_mut() else {
             return Vec::new();
