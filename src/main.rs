@@ -60,6 +60,25 @@ enum Command {
         #[arg(long, value_name = "PATH", default_value = "runs/lab.rrd")]
         record_to: PathBuf,
     },
+    /// Run a wavemaker case and check its waves against theory (issue 3): a flap or piston
+    /// into an absorbing end, a standing wave at a wall, or a cnoidal piston. Prints each figure
+    /// against its bar, writes validation.json beside the run, exits non-zero if one fails.
+    Validate {
+        /// The case file, e.g. cases/flap_deep_water.toml.
+        case: PathBuf,
+        /// Check the outputs of an earlier `surflab run` in DIR instead of running again (the
+        /// case is then taken from DIR/summary.json).
+        #[arg(long, value_name = "DIR")]
+        from: Option<PathBuf>,
+        /// Output folder (default runs/<case name>/).
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+        /// Stop at this simulated time instead of the case's time.end_s.
+        #[arg(long, value_name = "SECONDS")]
+        until: Option<f64>,
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+    },
     /// Time the step: ms per step by stage, particles and particle-steps per second.
     Bench {
         case: PathBuf,
@@ -91,6 +110,13 @@ fn main() {
             json,
             set,
         }) => cmd_bench(&case, steps, json, &set),
+        Some(Command::Validate {
+            case,
+            from,
+            out,
+            until,
+            set,
+        }) => cmd_validate(&case, from, out, until, &set),
         #[cfg(feature = "lab")]
         Some(Command::Lab {
             case,
@@ -212,6 +238,131 @@ fn cmd_run(
         );
     }
     eprintln!("surflab: status ok; wrote {}", out_dir.display());
+    Ok(())
+}
+
+fn cmd_validate(
+    path: &Path,
+    from: Option<PathBuf>,
+    out: Option<PathBuf>,
+    until: Option<f64>,
+    set: &[String],
+) -> Result<()> {
+    use surflab::diagnostics::wave_checks::{self, CheckError};
+    let (dir, case, drift, simulated, status) = match from {
+        Some(dir) => {
+            if !set.is_empty() || until.is_some() || out.is_some() {
+                bail!(
+                    "--from checks an earlier run as it was: --set, --until and --out do not apply"
+                );
+            }
+            let file = dir.join("summary.json");
+            let text = std::fs::read_to_string(&file)
+                .with_context(|| format!("reading {}", file.display()))?;
+            let json: serde_json::Value = serde_json::from_str(&text)
+                .with_context(|| format!("{}: not JSON", file.display()))?;
+            let case: Case = serde_json::from_value(json["parameters"].clone())
+                .with_context(|| format!("{}: parameters", file.display()))?;
+            let number = |key: &str| {
+                json[key]
+                    .as_f64()
+                    .with_context(|| format!("{}: no number {key}", file.display()))
+            };
+            let status = json["status"].as_str().unwrap_or("unknown").to_string();
+            (
+                dir,
+                case,
+                number("volume_drift_max")?,
+                number("simulated_s")?,
+                status,
+            )
+        }
+        None => {
+            let case = load(path, set, until)?;
+            let dir = out.unwrap_or_else(|| PathBuf::from("runs").join(&case.name));
+            eprintln!(
+                "surflab: {} to t = {} s, h = {} m, output to {}",
+                case.name,
+                case.time.end_s,
+                case.particles.spacing_m,
+                dir.display()
+            );
+            let outcome = run(
+                &case,
+                &RunOptions {
+                    out_dir: dir.clone(),
+                    rrd: false,
+                    progress: true,
+                },
+            )?;
+            let s = &outcome.summary;
+            eprintln!(
+                "surflab: {} particles, {} steps, {:.3} s simulated in {:.1} s wall, median {:.2} ms/step",
+                s.particles, s.steps, s.simulated_s, s.wall_s, s.median_ms_per_step
+            );
+            let (drift, simulated, status) = (s.volume_drift_max, s.simulated_s, s.status.clone());
+            (dir, case, drift, simulated, status)
+        }
+    };
+    if status != "ok" {
+        bail!(
+            "the run did not finish ({status}); nothing to validate in {}",
+            dir.display()
+        );
+    }
+    let gauges = dir.join("gauges.csv");
+    let record = surflab::output::timeseries::read_gauges(&gauges)
+        .with_context(|| format!("reading {}", gauges.display()))?;
+    let wavemaker = case
+        .wavemaker
+        .as_ref()
+        .with_context(|| format!("{}: the case has no wavemaker to validate", case.name))?;
+    let report = match wavemaker.theory {
+        surflab::case::WaveTheory::Cnoidal => wave_checks::cnoidal(&case, &record),
+        surflab::case::WaveTheory::Linear if case.absorber.is_some() => {
+            wave_checks::progressive(&case, &record, drift, simulated)
+        }
+        surflab::case::WaveTheory::Linear => wave_checks::standing(&case, &record),
+        surflab::case::WaveTheory::Solitary => Err(CheckError::NotApplicable(
+            "the solitary wave is validated by tests/solitary.rs".into(),
+        )),
+    }
+    .with_context(|| format!("validating {}", case.name))?;
+    println!(
+        "{}: {}, averaged over t = {:.2}–{:.2} s",
+        case.name, report.kind, report.window_s[0], report.window_s[1]
+    );
+    for c in &report.checks {
+        println!(
+            "  {:4}  {}: {:.5} {} ({:+.2} % of {:.5}; bar {})",
+            if c.passed { "pass" } else { "FAIL" },
+            c.what,
+            c.measured,
+            c.unit,
+            100.0 * c.error(),
+            c.target,
+            c.bar()
+        );
+    }
+    for f in &report.figures {
+        println!("        {}: {:.5} {}", f.what, f.value, f.unit);
+    }
+    let file = dir.join("validation.json");
+    std::fs::write(&file, serde_json::to_string_pretty(&report)?)
+        .with_context(|| format!("writing {}", file.display()))?;
+    let failed = report.checks.iter().filter(|c| !c.passed).count();
+    if failed > 0 {
+        bail!(
+            "{failed} of {} checks failed (written to {})",
+            report.checks.len(),
+            file.display()
+        );
+    }
+    println!(
+        "all {} checks pass; written to {}",
+        report.checks.len(),
+        file.display()
+    );
     Ok(())
 }
 

@@ -135,3 +135,30 @@ fn fixed_step_is_split_under_the_surface_wave_bound() {
     assert!((parts - parts.round()).abs() < 1e-9);
     assert!(dt > 0.5 * bound, "no more substeps than needed");
 }
+
+/// `surflab validate`: a run too short for the checks' windows is refused with the reason (and
+/// no panic), both when it runs the case and when it reads the run back with `--from`.
+#[test]
+fn validate_refuses_a_run_too_short_with_the_reason() {
+    let out = std::env::temp_dir().join(format!("surflab-validate-{}", std::process::id()));
+    let bin = env!("CARGO_BIN_EXE_surflab");
+    let first = std::process::Command::new(bin)
+        .args(["validate", "cases/flap_deep_water.toml", "--until", "2.0"])
+        .args(["--set", "particles.spacing_m=0.06", "--out"])
+        .arg(&out)
+        .output()
+        .expect("surflab runs");
+    let stderr = String::from_utf8_lossy(&first.stderr);
+    println!("{stderr}");
+    assert_eq!(first.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("20 periods"), "{stderr}");
+    assert!(out.join("gauges.csv").exists());
+    let again = std::process::Command::new(bin)
+        .args(["validate", "cases/flap_deep_water.toml", "--from"])
+        .arg(&out)
+        .output()
+        .expect("surflab runs");
+    let stderr = String::from_utf8_lossy(&again.stderr);
+    assert_eq!(again.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("20 periods"), "{stderr}");
+}

@@ -2,6 +2,7 @@
 
 pub mod surf;
 pub mod undertow;
+pub mod wave_checks;
 
 use crate::simulation::{AreaBudget, Simulation};
 use nalgebra::Vector2;

@@ -97,3 +97,47 @@ impl GaugeWriter {
         self.file.flush()
     }
 }
+
+/// Reads a `gauges.csv` written by [`GaugeWriter`]: every column after `t_s`, empty cells as
+/// dry (`None`).
+pub fn read_gauges(path: &Path) -> std::io::Result<crate::diagnostics::wave_checks::GaugeRecord> {
+    let bad = |m: String| std::io::Error::new(std::io::ErrorKind::InvalidData, m);
+    let text = std::fs::read_to_string(path)?;
+    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
+    let header: Vec<&str> = lines.next().unwrap_or_default().split(',').collect();
+    if header.first() != Some(&"t_s") {
+        return Err(bad(format!(
+            "{}: the first column is not t_s",
+            path.display()
+        )));
+    }
+    let mut record = crate::diagnostics::wave_checks::GaugeRecord {
+        names: header[1..].iter().map(|s| s.to_string()).collect(),
+        columns: vec![Vec::new(); header.len() - 1],
+        ..Default::default()
+    };
+    for (row, line) in lines.enumerate() {
+        let cells: Vec<&str> = line.split(',').collect();
+        if cells.len() != header.len() {
+            return Err(bad(format!(
+                "{}: row {} has {} cells, the header {}",
+                path.display(),
+                row + 1,
+                cells.len(),
+                header.len()
+            )));
+        }
+        let t: f64 = cells[0].parse().map_err(|_| {
+            bad(format!(
+                "{}: row {}: t_s is not a number",
+                path.display(),
+                row + 1
+            ))
+        })?;
+        record.t_s.push(t);
+        for (j, cell) in cells[1..].iter().enumerate() {
+            record.columns[j].push(cell.parse().ok().filter(|v: &f64| v.is_finite()));
+        }
+    }
+    Ok(record)
+}
