@@ -1,6 +1,8 @@
 //! The real lab window, screenshotted: `surflab lab CASE --screenshot PATH --after S` must open
 //! the window (under Xvfb when there is no display: CI installs xvfb and mesa's Vulkan driver),
-//! run the solver, save a PNG and exit; the PNG must not be blank.
+//! run the solver, save a PNG and exit; the PNG must not be blank, and the window must have drawn
+//! at least 20 frames per second while the solver ran (the lab's bar; the worker rests when the
+//! window falls under 24, see `lab::worker`).
 #![cfg(feature = "lab")]
 
 use std::process::Command;
@@ -18,7 +20,7 @@ fn the_real_window_saves_a_screenshot_that_is_not_blank() {
         "--screenshot",
         out.to_str().unwrap(),
         "--after",
-        "0.3",
+        "4.0",
         "--record-to",
         rrd.to_str().unwrap(),
     ];
@@ -32,15 +34,26 @@ fn the_real_window_saves_a_screenshot_that_is_not_blank() {
         c
     };
     let started = std::time::Instant::now();
-    let status = cmd
+    let output = cmd
         .args(args)
-        .status()
+        .output()
         .expect("run surflab lab (without a display this needs xvfb-run: bash .ci/setup)");
+    let status = output.status;
+    let stderr = String::from_utf8_lossy(&output.stderr);
     println!(
-        "surflab lab exited with {status} after {:.1} s",
+        "surflab lab exited with {status} after {:.1} s\n{stderr}",
         started.elapsed().as_secs_f64()
     );
     assert!(status.success(), "the lab window failed: {status}");
+    // "the window drew N frames in S s while the solver ran (F frames/s)"
+    let fps: f64 = stderr
+        .split("while the solver ran (")
+        .nth(1)
+        .and_then(|rest| rest.split(' ').next())
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("no frame rate in the output:\n{stderr}"));
+    println!("window: {fps:.1} frames/s while the solver ran");
+    assert!(fps >= 20.0, "the window drew {fps:.1} frames/s (bar 20)");
     let img = image::open(&out)
         .unwrap_or_else(|e| panic!("{}: {e}", out.display()))
         .to_rgba8();

@@ -2,7 +2,7 @@
 //! and the worker's speed. It talks to the worker only through typed commands.
 
 use super::controls::{Controls, Derived, Preset};
-use super::worker::{Command, SinkFactory, WorkerHandle};
+use super::worker::{Command, SinkFactory, UI_FPS_LOW, UiFrames, WorkerHandle};
 use crate::case::{PaddleType, WaveTheory};
 use egui::{RichText, Ui};
 use std::path::PathBuf;
@@ -24,6 +24,8 @@ pub struct Panel {
     /// Frames per second of the window, measured.
     pub ui_fps: f64,
     last_frame: Option<std::time::Instant>,
+    /// Ticked once per frame drawn; the worker paces itself by it.
+    ui_frames: std::sync::Arc<UiFrames>,
 }
 
 impl Panel {
@@ -43,7 +45,8 @@ impl Panel {
             .map_err(|e| e.to_string())?;
         let controls = Controls::from_case(&case);
         let derived = Derived::compute(&controls, p);
-        let worker = WorkerHandle::spawn(case, sinks, Duration::from_millis(30));
+        let ui_frames = std::sync::Arc::new(UiFrames::default());
+        let worker = WorkerHandle::spawn(case, sinks, Duration::from_millis(30), ui_frames.clone());
         if autorun {
             worker.send(Command::Run);
         }
@@ -58,6 +61,7 @@ impl Panel {
             recording: false,
             ui_fps: 0.0,
             last_frame: None,
+            ui_frames,
         })
     }
 
@@ -113,6 +117,7 @@ impl Panel {
             }
         }
         self.last_frame = Some(now);
+        self.ui_frames.tick();
         self.worker.poll();
         egui::ScrollArea::vertical().show(ui, |ui| {
             ui.heading("surflab");
@@ -320,6 +325,14 @@ impl Panel {
             "real-time factor {:.2}, {:.1} ms/step, {} steps/frame, window {:.0} fps",
             s.real_time_factor, s.ms_per_step, s.steps_per_frame, self.ui_fps
         ));
+        if s.running && s.solver_share < 0.999 {
+            ui.label(format!(
+                "solver paced to {:.0} % of the time to keep the window above {UI_FPS_LOW:.0} fps \
+                 (measured {:.0})",
+                100.0 * s.solver_share,
+                s.ui_fps_seen
+            ));
+        }
         ui.label(format!("volume V/V₀ = {:.4}", s.volume_ratio));
         ui.label(format!(
             "observed breaker: {}",

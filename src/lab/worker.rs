@@ -2,8 +2,12 @@
 //! the simulation and the recording stream, so the window never waits for a step.
 //!
 //! While running, it steps for about one display frame's worth of wall time (the budget adapts
-//! to how long steps take), then logs one frame and reports. A numerical failure or a panic in a
-//! step stops the run and shows in the status; the thread lives on and obeys the next command.
+//! to how long steps take), then logs one frame and reports. It also watches how many frames
+//! the window draws ([`UiFrames`]): when the window falls under [`UI_FPS_LOW`] while drawing
+//! (on a machine without a GPU the window's rasterizer competes with the solver for the same
+//! cores), the worker rests between its frames, for a share of the time that it adapts until
+//! the window is back above it. A numerical failure or a panic in a step stops the run and shows
+//! in the status; the thread lives on and obeys the next command.
 
 use crate::case::Case;
 use crate::diagnostics;
@@ -17,6 +21,7 @@ use crate::solver::StageTimings;
 use rerun::sink::LogSink;
 use std::path::PathBuf;
 use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender};
 use std::time::{Duration, Instant};
 
@@ -61,6 +66,101 @@ pub struct Status {
     pub frames: u64,
     /// The last breaker seen on the beach: type, where and when (None before the first).
     pub breaker: Option<String>,
+    /// Share of the wall time the solver works while running (1: flat out; less while it rests
+    /// so that the window keeps its frame rate).
+    pub solver_share: f64,
+    /// The window's frame rate the worker last measured (0 before the first measurement).
+    pub ui_fps_seen: f64,
+}
+
+/// Frames the window has drawn: the panel ticks it once per frame, the worker reads it to pace
+/// itself.
+#[derive(Debug, Default)]
+pub struct UiFrames(AtomicU64);
+
+impl UiFrames {
+    pub fn tick(&self) {
+        self.0.fetch_add(1, Ordering::Relaxed);
+    }
+
+    pub fn count(&self) -> u64 {
+        self.0.load(Ordering::Relaxed)
+    }
+}
+
+/// Below this the worker rests more; above [`UI_FPS_HIGH`] it works more (frames/s). The lab's
+/// bar is 20 frames/s; the band keeps a margin above it without idling the solver for nothing.
+pub const UI_FPS_LOW: f64 = 24.0;
+pub const UI_FPS_HIGH: f64 = 30.0;
+/// The solver never rests more than this share of the time.
+const MIN_SOLVER_SHARE: f64 = 0.1;
+/// How often the window's frame rate is measured.
+const PACE_WINDOW: Duration = Duration::from_millis(500);
+
+/// The worker's side of pacing: the share of time it works and where the last measurement
+/// of the window's frame rate started.
+#[derive(Debug)]
+struct Pacer {
+    ui_frames: Arc<UiFrames>,
+    share: f64,
+    mark: Option<(Instant, u64)>,
+    /// How long to rest before the next frame.
+    rest: Duration,
+}
+
+impl Pacer {
+    fn new(ui_frames: Arc<UiFrames>) -> Pacer {
+        Pacer {
+            ui_frames,
+            share: 1.0,
+            mark: None,
+            rest: Duration::ZERO,
+        }
+    }
+
+    /// After a frame that worked for `worked`: measures the window every [`PACE_WINDOW`],
+    /// adapts the share, and sets the rest before the next frame. Returns the frame rate
+    /// measured, if one was.
+    fn after_frame(&mut self, worked: Duration) -> Option<f64> {
+        let now = Instant::now();
+        let frames = self.ui_frames.count();
+        let mut measured = None;
+        match self.mark {
+            Some((t0, f0)) if now - t0 >= PACE_WINDOW => {
+                let fps = (frames - f0) as f64 / (now - t0).as_secs_f64();
+                self.share = adapt_share(self.share, fps, frames > f0);
+                self.mark = Some((now, frames));
+                measured = Some(fps);
+            }
+            Some(_) => {}
+            None => self.mark = Some((now, frames)),
+        }
+        self.rest = worked
+            .mul_f64(1.0 / self.share - 1.0)
+            .min(Duration::from_millis(200));
+        measured
+    }
+
+    /// Paused or reset: start measuring afresh, keep the share learnt.
+    fn restart(&mut self) {
+        self.mark = None;
+        self.rest = Duration::ZERO;
+    }
+}
+
+/// The solver's new share of the time, from the window's frame rate over the last window
+/// (`drawing`: whether it drew at all; a window that draws nothing, minimised or in a test
+/// without one, is not waiting for the solver, which then works flat out).
+pub fn adapt_share(share: f64, ui_fps: f64, drawing: bool) -> f64 {
+    if !drawing {
+        1.0
+    } else if ui_fps < UI_FPS_LOW {
+        (share * 0.8).max(MIN_SOLVER_SHARE)
+    } else if ui_fps > UI_FPS_HIGH {
+        (share * 1.15).min(1.0)
+    } else {
+        share
+    }
 }
 
 /// Sinks the recording stream always feeds (the embedded viewer; nothing in tests).
@@ -77,13 +177,18 @@ pub struct WorkerHandle {
 
 impl WorkerHandle {
     /// Starts the worker on `case` (paused) with a wall-time budget per frame.
-    pub fn spawn(case: Case, sinks: SinkFactory, frame_budget: Duration) -> WorkerHandle {
+    pub fn spawn(
+        case: Case,
+        sinks: SinkFactory,
+        frame_budget: Duration,
+        ui_frames: Arc<UiFrames>,
+    ) -> WorkerHandle {
         let (tx, cmd_rx) = std::sync::mpsc::channel();
         let (status_tx, rx) = std::sync::mpsc::channel();
         let thread = std::thread::Builder::new()
             .name("surflab-solver".into())
             .spawn(move || {
-                let mut w = Worker::new(case, sinks, status_tx, frame_budget);
+                let mut w = Worker::new(case, sinks, status_tx, frame_budget, ui_frames);
                 w.run(cmd_rx);
             })
             .expect("spawn the solver thread");
@@ -140,6 +245,7 @@ struct Worker {
     last_logged: Option<Instant>,
     /// Watches the logged frames for breaking (idle without a beach and a wavemaker).
     breaking: Option<BreakingDetector>,
+    pacer: Pacer,
 }
 
 /// Shortest wall time between two logged frames (about 16 frames of data per second): the
@@ -152,6 +258,7 @@ impl Worker {
         sinks: SinkFactory,
         status_tx: Sender<Status>,
         frame_budget: Duration,
+        ui_frames: Arc<UiFrames>,
     ) -> Worker {
         let mut w = Worker {
             sim: None,
@@ -166,6 +273,7 @@ impl Worker {
             rtf_window: (0.0, 0.0),
             last_logged: None,
             breaking: None,
+            pacer: Pacer::new(ui_frames),
         };
         w.reset(case);
         w
@@ -173,9 +281,19 @@ impl Worker {
 
     fn run(&mut self, rx: Receiver<Command>) {
         loop {
-            // Paused: wait for a command. Running: take what has arrived and step.
+            // Paused: wait for a command. Running: take what has arrived (waiting out the rest
+            // the pacer asks for, if any) and step.
             let first = if self.status.running {
-                rx.try_recv().ok()
+                let rest = self.pacer.rest;
+                if rest.is_zero() {
+                    rx.try_recv().ok()
+                } else {
+                    match rx.recv_timeout(rest) {
+                        Ok(c) => Some(c),
+                        Err(RecvTimeoutError::Timeout) => None,
+                        Err(RecvTimeoutError::Disconnected) => return,
+                    }
+                }
             } else {
                 match rx.recv_timeout(Duration::from_millis(200)) {
                     Ok(c) => Some(c),
@@ -191,7 +309,14 @@ impl Worker {
                 next = rx.try_recv().ok();
             }
             if self.status.running {
+                let started = Instant::now();
                 self.frame(usize::MAX);
+                if let Some(fps) = self.pacer.after_frame(started.elapsed()) {
+                    self.status.ui_fps_seen = fps;
+                }
+                self.status.solver_share = self.pacer.share;
+            } else {
+                self.pacer.restart();
             }
         }
     }
@@ -228,6 +353,7 @@ impl Worker {
         self.status = Status {
             case_name: self.case.name.clone(),
             recording: self.recording.clone(),
+            solver_share: self.pacer.share,
             ..Status::default()
         };
         self.last_timings = None;
@@ -348,7 +474,8 @@ impl Worker {
                 Some(format!("the solver panicked: {what}"))
             }
         };
-        let wall = started.elapsed().as_secs_f64();
+        // Wall time of this frame: its work and the rest the pacer took before it.
+        let wall = (started.elapsed() + self.pacer.rest).as_secs_f64();
         if let Some(sim) = &self.sim {
             let sim_dt = sim.time_s - t_start;
             // Exponential smoothing of the real-time factor over a few frames.
@@ -429,5 +556,41 @@ impl Worker {
         };
         self.status.case_name = self.case.name.clone();
         let _ = self.status_tx.send(self.status.clone());
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The share falls while the window is slow, down to its floor; rises back to flat out when
+    /// it is fast; and is flat out when the window draws nothing.
+    #[test]
+    fn the_solver_share_follows_the_window() {
+        let mut share = 1.0;
+        for _ in 0..50 {
+            share = adapt_share(share, 12.0, true);
+        }
+        assert_eq!(share, MIN_SOLVER_SHARE);
+        let held = adapt_share(0.5, 0.5 * (UI_FPS_LOW + UI_FPS_HIGH), true);
+        assert_eq!(held, 0.5);
+        for _ in 0..50 {
+            share = adapt_share(share, 60.0, true);
+        }
+        assert_eq!(share, 1.0);
+        assert_eq!(adapt_share(0.2, 0.0, false), 1.0);
+    }
+
+    /// The rest before the next frame is what makes the share: work w, rest w (1/share − 1).
+    #[test]
+    fn the_rest_gives_the_share() {
+        let frames = Arc::new(UiFrames::default());
+        let mut pacer = Pacer::new(frames.clone());
+        pacer.share = 0.25;
+        pacer.after_frame(Duration::from_millis(20));
+        assert_eq!(pacer.rest, Duration::from_millis(60));
+        pacer.share = 1.0;
+        pacer.after_frame(Duration::from_millis(20));
+        assert_eq!(pacer.rest, Duration::ZERO);
     }
 }
