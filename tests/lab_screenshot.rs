@@ -2,7 +2,7 @@
 //! the window (under Xvfb when there is no display: CI installs xvfb and mesa's Vulkan driver),
 //! run the solver, save a PNG and exit; the PNG must not be blank, and the window must have drawn
 //! at least 20 frames per second while the solver ran (the lab's bar; the worker rests when the
-//! window falls under 24, see `lab::worker`).
+//! window falls under 22, see `lab::worker`).
 #![cfg(feature = "lab")]
 
 use std::process::Command;

@@ -353,6 +353,11 @@ pub struct SolverSettings {
     /// An interior particle closer than this (in units of h) to a neighbour is removed; 0 turns
     /// removal off.
     pub remove_distance_h: f64,
+    /// Two free-surface fluid particles closer than this (in units of h) are merged into one at
+    /// their midpoint, with their mean velocity; 0 (the default) turns it off. Where a jet lands
+    /// or a bore overtakes a crest, surface particles collide and make slivers that removal,
+    /// which takes only interior particles, does not reach.
+    pub merge_surface_distance_h: f64,
     /// Put the water area lost since t = 0 back on the free surface every step (Kratos'
     /// PFEM-Fluid correction; see `solver/volume.rs`). Off by default: it hides the loss.
     pub volume_recovery: bool,
@@ -387,6 +392,7 @@ impl Default for SolverSettings {
             wall_margin_h: 0.4,
             insert_radius_h: 0.9,
             remove_distance_h: 0.35,
+            merge_surface_distance_h: 0.0,
             volume_recovery: false,
             area_correction: false,
             weak_surface_length_h: 0.0,
@@ -788,6 +794,12 @@ impl Case {
                 ),
             );
         }
+        if !(0.0..0.5).contains(&s.merge_surface_distance_h) {
+            return err(
+                "solver.merge_surface_distance_h",
+                format!("must lie in [0, 0.5), got {}", s.merge_surface_distance_h),
+            );
+        }
         if !(0.0..0.9).contains(&s.remove_distance_h) {
             return err(
                 "solver.remove_distance_h",
@@ -1020,6 +1032,8 @@ mod tests {
         assert!(e.to_string().contains("surface_wave_courant"), "{e}");
         let e = parse(MINIMAL, &["solver.weak_surface_length_h=-0.3"]).unwrap_err();
         assert!(e.to_string().contains("weak_surface_length_h"), "{e}");
+        let e = parse(MINIMAL, &["solver.merge_surface_distance_h=0.6"]).unwrap_err();
+        assert!(e.to_string().contains("merge_surface_distance_h"), "{e}");
     }
 
     #[test]

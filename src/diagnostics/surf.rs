@@ -216,10 +216,14 @@ pub struct BreakingDetector {
 pub struct BreakingSummary {
     pub iribarren: f64,
     pub predicted: &'static str,
-    /// The most frequent type among the breakers seen (the first one on a tie), `surging` when
-    /// no wave broke but the water ran up the beach, `none` otherwise.
+    /// The most frequent type among the breakers the point is taken from (`basis`; the first
+    /// of them on a tie), `surging` when no wave broke but the water ran up the beach, `none`
+    /// otherwise.
     pub observed: &'static str,
-    /// The first breaker's point (flume x), depth, height and time; null when none broke.
+    /// The breaking point (flume x), still depth, height and time. With `basis` = "steady":
+    /// the medians over the steady breakers (after `steady_from_s`, at least 0.75 H high) and
+    /// the time of the first of them; with "first": the first breaker's (no steady breaker);
+    /// null when none broke.
     pub x_b_m: Option<f64>,
     /// `x_b_m − surf.x_origin_m`: the breaking point in the reference data's frame.
     pub x_b_data_frame_m: Option<f64>,
@@ -227,12 +231,42 @@ pub struct BreakingSummary {
     #[serde(rename = "H_b_m")]
     pub height_b_m: Option<f64>,
     pub t_b_s: Option<f64>,
+    /// "steady", "first" or "none": what the point and the type above are taken from.
+    pub basis: &'static str,
+    /// The steady breakers are those from this time on (the surf averages' spin-up)...
+    pub steady_from_s: f64,
+    /// ...and this many of them were at least 0.75 H high.
+    pub steady_breakers: usize,
+    /// The first breaker of the run (often one of the ramped first waves).
+    pub first: Option<Breaker>,
     /// Means over all breakers seen.
     pub x_b_mean_m: Option<f64>,
     #[serde(rename = "H_b_mean_m")]
     pub height_b_mean_m: Option<f64>,
     pub run_up_m: f64,
     pub breakers: Vec<Breaker>,
+}
+
+/// The most frequent type among `breakers` (the first one's on a tie).
+fn most_frequent(breakers: &[&Breaker]) -> Option<BreakerType> {
+    let mut best: Option<(usize, BreakerType)> = None;
+    for b in breakers {
+        let n = breakers.iter().filter(|o| o.observed == b.observed).count();
+        if best.is_none_or(|(m, _)| n > m) {
+            best = Some((n, b.observed));
+        }
+    }
+    best.map(|b| b.1)
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(|a, b| a.total_cmp(b));
+    let m = v.len() / 2;
+    if v.len() % 2 == 1 {
+        v[m]
+    } else {
+        0.5 * (v[m - 1] + v[m])
+    }
 }
 
 impl BreakingDetector {
@@ -466,42 +500,52 @@ impl BreakingDetector {
 
     /// The summary of the run (`None` without a beach and a wavemaker). `x_origin_m` shifts
     /// x_b into the reference data's frame.
-    pub fn summary(&self, x_origin_m: f64) -> Option<BreakingSummary> {
+    /// The run's breaking summary. A periodic wave train breaks at a steady point once the
+    /// first waves have passed: the point is taken from the breakers after `steady_from_s`
+    /// (the spin-up of the surf averages) that are at least 0.75 H high, which leaves out the
+    /// ramp's low crests and the reforming bores shoreward of the break; without any, from the
+    /// first breaker.
+    pub fn summary(&self, x_origin_m: f64, steady_from_s: f64) -> Option<BreakingSummary> {
         let s = self.setup.as_ref()?;
+        let steady: Vec<&Breaker> = self
+            .breakers
+            .iter()
+            .filter(|b| b.t_b_s >= steady_from_s && b.height_b_m >= 0.75 * s.height_m)
+            .collect();
         let first = self.breakers.first();
-        let observed = if self.breakers.is_empty() {
-            if self.run_up_m >= 0.25 * s.height_m {
-                "surging"
-            } else {
-                "none"
-            }
+        let (basis, used): (&'static str, Vec<&Breaker>) = if !steady.is_empty() {
+            ("steady", steady.clone())
+        } else if let Some(b) = first {
+            ("first", vec![b])
         } else {
-            let mut best = (0, self.breakers[0].observed);
-            for b in &self.breakers {
-                let n = self
-                    .breakers
-                    .iter()
-                    .filter(|o| o.observed == b.observed)
-                    .count();
-                if n > best.0 {
-                    best = (n, b.observed);
-                }
-            }
-            best.1.name()
+            ("none", Vec::new())
+        };
+        let observed = match most_frequent(&used) {
+            Some(t) => t.name(),
+            None if self.run_up_m >= 0.25 * s.height_m => "surging",
+            None => "none",
+        };
+        let pick = |f: fn(&Breaker) -> f64| {
+            (!used.is_empty()).then(|| median(used.iter().map(|b| f(b)).collect()))
         };
         let mean = |f: fn(&Breaker) -> f64| {
             (!self.breakers.is_empty())
                 .then(|| self.breakers.iter().map(f).sum::<f64>() / self.breakers.len() as f64)
         };
+        let x_b = pick(|b| b.x_b_m);
         Some(BreakingSummary {
             iribarren: self.iribarren,
             predicted: self.predicted.map_or("none", BreakerType::name),
             observed,
-            x_b_m: first.map(|b| b.x_b_m),
-            x_b_data_frame_m: first.map(|b| b.x_b_m - x_origin_m),
-            h_b_m: first.map(|b| b.h_b_m),
-            height_b_m: first.map(|b| b.height_b_m),
-            t_b_s: first.map(|b| b.t_b_s),
+            x_b_m: x_b,
+            x_b_data_frame_m: x_b.map(|x| x - x_origin_m),
+            h_b_m: pick(|b| b.h_b_m),
+            height_b_m: pick(|b| b.height_b_m),
+            t_b_s: used.first().map(|b| b.t_b_s),
+            basis,
+            steady_from_s,
+            steady_breakers: steady.len(),
+            first: first.copied(),
             x_b_mean_m: mean(|b| b.x_b_m),
             height_b_mean_m: mean(|b| b.height_b_m),
             run_up_m: self.run_up_m,

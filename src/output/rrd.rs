@@ -241,6 +241,7 @@ impl RrdLogger {
                         .into(),
                 ])
                 .with_row_shares([6.0, 1.0])
+                .with_name(title)
                 .into()
             };
             Tabs::new([

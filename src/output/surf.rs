@@ -131,10 +131,12 @@ impl SurfRecorder {
     ) -> (Option<BreakingSummary>, Option<SurfSummary>) {
         let case = &sim.case;
         let origin = case.surf.x_origin_m;
-        let breaking = self.detector.summary(origin);
         let Some(w) = &case.wavemaker else {
-            return (breaking, None);
+            return (self.detector.summary(origin, 0.0), None);
         };
+        let breaking = self
+            .detector
+            .summary(origin, case.surf.spin_up_periods * w.period_s);
         if !self.active() {
             return (breaking, None);
         }

@@ -50,6 +50,8 @@ pub struct SolverParams {
     pub insert_radius_h: f64,
     /// Node removal threshold on the spacing, in units of h (0: off).
     pub remove_distance_h: f64,
+    /// Free-surface pairs closer than this (in units of h) are merged (0: off).
+    pub merge_surface_distance_h: f64,
     /// Smallest Δt the solver may fall back to when a step would invert elements.
     pub dt_min_s: f64,
     /// May the solver shorten Δt on its own (CFL policy) when a step would invert elements?
@@ -116,6 +118,7 @@ impl SolverParams {
             wall_margin_m: s.wall_margin_h * particles.spacing_m,
             insert_radius_h: s.insert_radius_h,
             remove_distance_h: s.remove_distance_h,
+            merge_surface_distance_h: s.merge_surface_distance_h,
             dt_min_s: time.dt_min_s,
             adaptive_dt: time.dt_policy == DtPolicy::Cfl,
             absorber: None,

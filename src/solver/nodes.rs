@@ -11,6 +11,12 @@
 //!   node put in it would turn air into water (Kratos and PFEM3D avoid it likewise);
 //! - removal: an interior fluid node (not on the free surface, so the volume does not change)
 //!   closer than `remove_distance_h`·h to a neighbour in the kept mesh is removed (one of each pair).
+//! - merging (`merge_surface_distance_h`, off by default): two free-surface fluid nodes joined by
+//!   an edge of the kept mesh and closer than that·h become one node at their midpoint with
+//!   their mean velocity. Where a plunging jet lands or a bore runs over the crest ahead, surface
+//!   particles collide; the slivers they make with their neighbours are beyond removal's reach
+//!   (it spares the surface so as not to change the volume) and were where the breaking runs
+//!   diverged.
 
 use super::Solver;
 use crate::particles::{NodeKind, Particles};
@@ -97,6 +103,37 @@ impl Solver {
                     drop[i] = true;
                 }
             }
+        }
+        // Colliding surface particles: merge each close pair into its midpoint.
+        let merge_d2 = (self.params.merge_surface_distance_h * h).powi(2);
+        let mut moved: Vec<(usize, Vector2<f64>, Vector2<f64>)> = Vec::new();
+        if merge_d2 > 0.0 {
+            let surface = |i: usize| {
+                particles.kind[i] == NodeKind::Fluid
+                    && self.mesh.in_mesh[i]
+                    && self.mesh.free_surface[i]
+            };
+            for t in &self.mesh.triangles {
+                for k in 0..3 {
+                    let (i, j) = (t[k] as usize, t[(k + 1) % 3] as usize);
+                    if drop[i] || drop[j] || !surface(i) || !surface(j) {
+                        continue;
+                    }
+                    if (x[i] - x[j]).norm_squared() >= merge_d2 || moved.iter().any(|m| m.0 == i) {
+                        continue;
+                    }
+                    drop[j] = true;
+                    moved.push((
+                        i,
+                        0.5 * (x[i] + x[j]),
+                        0.5 * (particles.velocity[i] + particles.velocity[j]),
+                    ));
+                }
+            }
+        }
+        for &(i, xi, ui) in &moved {
+            particles.position[i] = xi;
+            particles.velocity[i] = ui;
         }
         let removed = drop.iter().filter(|d| **d).count();
         if removed > 0 {

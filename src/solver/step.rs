@@ -1,6 +1,7 @@
 //! One PFEM time step, as a list of stages (thesis §2.5; method.md §1):
 //!
-//! 0. `nodes`: split stretched triangles of the last mesh, remove crowded interior nodes;
+//! 0. `nodes`: split stretched triangles of the last mesh, remove crowded interior nodes, merge
+//!    colliding surface nodes (if asked);
 //! 1. `remesh`: Delaunay triangulation of every node;
 //! 2. `alpha_shape`: keep triangles with R < α·h, drop all-wall ones, find the free surface;
 //! 3. `elements`: areas, gradients, lumped mass, Smagorinsky μ_e, τ;
