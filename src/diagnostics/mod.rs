@@ -162,6 +162,21 @@ pub fn velocity_at(sim: &Simulation, point: Vector2<f64>) -> Option<Vector2<f64>
     })
 }
 
+/// Median of a sample (NaN for none).
+pub fn median(values: &[f64]) -> f64 {
+    if values.is_empty() {
+        return f64::NAN;
+    }
+    let mut v = values.to_vec();
+    v.sort_by(|a, b| a.total_cmp(b));
+    let m = v.len() / 2;
+    if v.len() % 2 == 1 {
+        v[m]
+    } else {
+        0.5 * (v[m - 1] + v[m])
+    }
+}
+
 /// Zero-up-crossing statistics of a surface-elevation record.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct WaveStats {

@@ -259,16 +259,6 @@ fn most_frequent(breakers: &[&Breaker]) -> Option<BreakerType> {
     best.map(|b| b.1)
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(|a, b| a.total_cmp(b));
-    let m = v.len() / 2;
-    if v.len() % 2 == 1 {
-        v[m]
-    } else {
-        0.5 * (v[m - 1] + v[m])
-    }
-}
-
 impl BreakingDetector {
     /// A detector for `sim`'s case: active with a beach and a wavemaker, idle otherwise.
     pub fn new(sim: &Simulation) -> Self {
@@ -526,7 +516,8 @@ impl BreakingDetector {
             None => "none",
         };
         let pick = |f: fn(&Breaker) -> f64| {
-            (!used.is_empty()).then(|| median(used.iter().map(|b| f(b)).collect()))
+            (!used.is_empty())
+                .then(|| super::median(&used.iter().map(|b| f(b)).collect::<Vec<_>>()))
         };
         let mean = |f: fn(&Breaker) -> f64| {
             (!self.breakers.is_empty())

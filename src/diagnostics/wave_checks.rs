@@ -118,6 +118,15 @@ pub struct Report {
 }
 
 impl Report {
+    fn new(kind: &str, window_s: [f64; 2]) -> Report {
+        Report {
+            kind: kind.into(),
+            window_s,
+            checks: Vec::new(),
+            figures: Vec::new(),
+        }
+    }
+
     pub fn passed(&self) -> bool {
         !self.checks.is_empty() && self.checks.iter().all(|c| c.passed)
     }
@@ -300,12 +309,7 @@ pub fn progressive(
     let wavelength = TAU / k;
     let reach = 4.0;
     let window = last_periods(record, period, 5.0)?;
-    let mut report = Report {
-        kind: "progressive waves (flap or piston, linear theory)".into(),
-        window_s: window,
-        checks: Vec::new(),
-        figures: Vec::new(),
-    };
+    let mut report = Report::new("progressive waves (flap or piston, linear theory)", window);
     report.figure("linear wavelength L", wavelength, "m");
     report.figure("kh", k * depth, "");
     let gauges: Vec<(f64, &[Option<f64>])> = record
@@ -451,12 +455,7 @@ pub fn standing(case: &Case, record: &GaugeRecord) -> Result<Report, CheckError>
     let wavelength = TAU / k;
     let x_wall = case.flume.length_m;
     let window = last_periods(record, period, 3.0)?;
-    let mut report = Report {
-        kind: "standing wave at a vertical wall (linear theory)".into(),
-        window_s: window,
-        checks: Vec::new(),
-        figures: Vec::new(),
-    };
+    let mut report = Report::new("standing wave at a vertical wall (linear theory)", window);
     report.figure("linear wavelength L", wavelength, "m");
     // (x, Re Z, Im Z) with the signal ≈ Re{Z e^{−iωt}}.
     let mut points = Vec::new();
@@ -589,12 +588,7 @@ pub fn cnoidal(case: &Case, record: &GaugeRecord) -> Result<Report, CheckError> 
         .ok_or_else(|| CheckError::NotApplicable("the case has no water".into()))?;
     let wave = CnoidalWave::new(w.height_m, w.period_s, depth, case.fluid.gravity_m_s2)?;
     let window = last_periods(record, w.period_s, 5.0)?;
-    let mut report = Report {
-        kind: "cnoidal piston".into(),
-        window_s: window,
-        checks: Vec::new(),
-        figures: Vec::new(),
-    };
+    let mut report = Report::new("cnoidal piston", window);
     report.figure("cnoidal wavelength L", wave.wavelength_m, "m");
     report.figure("Ursell number", wave.ursell_number(), "");
     let target_x = w.x_m + 2.0 * wave.wavelength_m;

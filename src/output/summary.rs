@@ -48,17 +48,5 @@ pub struct GaugeSummary {
     pub stats: Option<crate::diagnostics::WaveStats>,
 }
 
-/// Median of a sample (NaN for none).
-pub fn median(values: &[f64]) -> f64 {
-    if values.is_empty() {
-        return f64::NAN;
-    }
-    let mut v = values.to_vec();
-    v.sort_by(|a, b| a.total_cmp(b));
-    let m = v.len() / 2;
-    if v.len() % 2 == 1 {
-        v[m]
-    } else {
-        0.5 * (v[m - 1] + v[m])
-    }
-}
+/// Median of a sample (NaN for none); it lives with the observers.
+pub use crate::diagnostics::median;

@@ -119,7 +119,9 @@ impl Solver {
                     if drop[i] || drop[j] || !surface(i) || !surface(j) {
                         continue;
                     }
-                    if (x[i] - x[j]).norm_squared() >= merge_d2 || moved.iter().any(|m| m.0 == i) {
+                    if (x[i] - x[j]).norm_squared() >= merge_d2
+                        || moved.iter().any(|m| m.0 == i || m.0 == j)
+                    {
                         continue;
                     }
                     drop[j] = true;
