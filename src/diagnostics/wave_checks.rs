@@ -18,11 +18,6 @@ pub struct GaugeRecord {
 }
 
 impl GaugeRecord {
-    pub fn column(&self, name: &str) -> Option<&[Option<f64>]> {
-        let j = self.names.iter().position(|n| n == name)?;
-        Some(&self.columns[j])
-    }
-
     /// The elevation gauges, `(x, column)`, in the order of the record.
     pub fn elevation_gauges(&self) -> Vec<(f64, &[Option<f64>])> {
         self.names
