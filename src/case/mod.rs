@@ -375,6 +375,11 @@ pub struct SolverSettings {
     /// (two neighbours each side). It removes ε of a node-to-node (2h) ripple per step and
     /// ε (k h)⁴/16 of a smooth wave of wavenumber k (see `solver/filter.rs`); 0 turns it off.
     pub surface_filter: f64,
+    /// Relaxation time T_r of the water area, s; 0 (the default) turns it off. The area the
+    /// numerics lose (remeshing, motion) is booked per vertical strip of 20 h, and the nodes
+    /// deep in the water of that strip (not on the mesh boundary, no wall neighbour) are asked
+    /// for the divergence that gives it back over about T_r (see `solver/relax.rs`).
+    pub volume_relaxation_s: f64,
 }
 
 impl Default for SolverSettings {
@@ -397,6 +402,7 @@ impl Default for SolverSettings {
             area_correction: false,
             weak_surface_length_h: 0.0,
             surface_filter: 0.0,
+            volume_relaxation_s: 0.0,
         }
     }
 }
@@ -823,6 +829,7 @@ impl Case {
             return err("time.cfl", format!("must lie in (0, 1], got {}", t.cfl));
         }
         non_negative("solver.weak_surface_length_h", s.weak_surface_length_h)?;
+        non_negative("solver.volume_relaxation_s", s.volume_relaxation_s)?;
         if !(0.0..1.0).contains(&s.surface_filter) {
             return err(
                 "solver.surface_filter",

@@ -14,6 +14,7 @@ mod nodes;
 mod ordering;
 mod predict;
 pub mod pressure;
+mod relax;
 mod step;
 mod volume;
 
@@ -66,6 +67,8 @@ pub struct SolverParams {
     pub weak_surface_length_m: f64,
     /// Strength of the fourth-difference filter of the surface velocities (0: off).
     pub surface_filter: f64,
+    /// Relaxation time of the particles' areas towards the ones they carry, s (0: off).
+    pub volume_relaxation_s: f64,
     /// A fluid speed above this stops the run as diverged, m/s (ten times the speed of a fall
     /// from the top of the flume, sqrt(2 g H)).
     pub speed_limit_m_s: f64,
@@ -127,6 +130,7 @@ impl SolverParams {
             area_correction: s.area_correction,
             weak_surface_length_m: s.weak_surface_length_h * particles.spacing_m,
             surface_filter: s.surface_filter,
+            volume_relaxation_s: s.volume_relaxation_s,
             two_threads: true,
         }
     }
@@ -273,6 +277,10 @@ pub struct Solver {
     pub(crate) moved_area: Option<f64>,
     /// The water area to keep when `volume_recovery` is on (the initial one), m².
     pub volume_target_m2: Option<f64>,
+    /// Per node: the divergence its continuity equation asks for, 1/s (`relax.rs`; 0 unless
+    /// `volume_relaxation_s` > 0).
+    divergence_target: Vec<f64>,
+    ledger: relax::AreaLedger,
     pressure: PressureSystem,
     /// The symbolic Cholesky analysis of this step, running on a second thread.
     symbolic_job: Option<pressure::SymbolicJob>,

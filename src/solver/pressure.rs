@@ -4,11 +4,12 @@
 //! (Δt/ρ L + L_τ) pⁿ⁺¹ = −D ũ + γ (Δt/ρ) L pⁿ − Q πⁿ,
 //!
 //! with, per element, L_ij = A b_i·b_j, L_τ,ij = τ_e A b_i·b_j, (D ũ)_i = (A/3) ∇·ũ and
-//! (Q π)_i = τ_e A b_i·π̄. With `area_correction`, ∇·ũ in D ũ becomes ∇·ũ + Δt det ∇ũ: the
-//! move x ← x + Δt u maps a triangle of area A to one of area A (1 + Δt ∇·u + Δt² det ∇u), so
-//! asking for ∇·u = −Δt det ∇u keeps it, where ∇·u = 0 would lose Δt² |det ∇u| A per step
-//! wherever the flow strains the element (det ∇u = −(∂ₓu)² − ∂_y u ∂ₓw < 0 for irrotational
-//! flow, so the loss is one-signed and grows with time).
+//! (Q π)_i = τ_e A b_i·π̄; with `volume_relaxation_s`, D ũ becomes D ũ − M s, s the
+//! divergence asked of the deep nodes by `relax.rs`. With `area_correction`, ∇·ũ in D ũ
+//! becomes ∇·ũ + Δt det ∇ũ: the move x ← x + Δt u maps a triangle of area A to one of area
+//! A (1 + Δt ∇·u + Δt² det ∇u), so asking for ∇·u = −Δt det ∇u keeps it, where ∇·u = 0 would
+//! lose Δt² |det ∇u| A per step wherever the flow strains the element (det ∇u = −(∂ₓu)² −
+//! ∂_y u ∂ₓw < 0 for irrotational flow, so the loss is one-signed and grows with time).
 //!
 //! Since L_τ p + Q π = Σ τ_e A b_i·(∇p + π̄) and π ≈ −∇p, the stabilisation vanishes where
 //! the pressure gradient is smooth (hydrostatic water included). p = 0 is imposed strongly on
@@ -357,6 +358,7 @@ impl Solver {
         );
 
         let p_fixed = &self.p_fixed;
+        let target = &self.divergence_target;
         let (p_old, pi_old, u_t) = (
             &self.p_old,
             &particles.pressure_gradient_projection,
@@ -380,7 +382,8 @@ impl Solver {
                     continue;
                 }
                 let ra = ra as usize;
-                sys.rhs[ra] += -e.area / 3.0 * div_u + e.area * e.grad[a].dot(&flux);
+                sys.rhs[ra] +=
+                    e.area / 3.0 * (target[idx[a]] - div_u) + e.area * e.grad[a].dot(&flux);
                 for b in 0..3 {
                     let kab = c * e.grad[a].dot(&e.grad[b]);
                     match sys.slots[k][3 * a + b] {

@@ -4,15 +4,19 @@
 //!    colliding surface nodes (if asked);
 //! 1. `remesh`: Delaunay triangulation of every node;
 //! 2. `alpha_shape`: keep triangles with R < α·h, drop all-wall ones, find the free surface;
+//! 2b. `relax` (optional): book what the remesh changed in the per-strip area ledger, and ask
+//!    the deep nodes of each strip for the divergence that pays its balance back (`relax.rs`);
 //! 3. `elements`: areas, gradients, lumped mass, Smagorinsky μ_e, τ;
 //! 4. `predict`: ũ from momentum without the pressure increment;
-//! 5. `assemble` + `pressure_solve`: (Δt/ρ L + L_τ) pⁿ⁺¹ = −Dũ + γ(Δt/ρ)L pⁿ − Qπⁿ, p = 0 on the
+//! 5. `assemble` + `pressure_solve`: (Δt/ρ L + L_τ) pⁿ⁺¹ = −Dũ + Ms + γ(Δt/ρ)L pⁿ − Qπⁿ (s the
+//!    divergence target of 2b), p = 0 on the
 //!    free surface, strongly or weakly (the pattern is built right after the α-shape, so that its symbolic
 //!    factorisation runs on the second core during stages 3–5);
 //! 6. `correct`: uⁿ⁺¹ = ũ + Δt M⁻¹ Dᵀ(pⁿ⁺¹ − γpⁿ), and π from pⁿ⁺¹;
 //!    then (optional) the fourth-difference filter of the surface velocities (`filter.rs`);
 //! 7. `move`: xⁿ⁺¹ = xⁿ + Δt uⁿ⁺¹ (thesis eq. 2.59), then the wall guard, then (optional)
-//!    the volume recovery on the free surface (`volume.rs`).
+//!    the volume recovery on the free surface (`volume.rs`), then (with 2b) book what the move
+//!    changed in the ledger.
 //!
 //! If the new velocities would turn a kept triangle inside out within Δt, and the Δt policy
 //! allows it, stages 4–6 are redone with Δt/2.
@@ -46,6 +50,7 @@ impl Solver {
             self.params.spacing_m,
         );
 
+        self.relax_start(particles);
         let changes = timed(&mut t.nodes_ms, || self.manage_nodes(particles));
         let (max_r_m, two_threads) = (self.params.alpha_radius_m(), self.params.two_threads);
         let tri = timed(&mut t.remesh_ms, || {
@@ -63,6 +68,7 @@ impl Solver {
             )
         });
         drop(tri);
+        timed(&mut t.elements_ms, || self.relax_targets(particles));
         timed(&mut t.assemble_ms, || self.prepare_pressure(particles));
         let area_before_move = self.mesh.area(&particles.position);
         let remesh_change = self.moved_area.map_or(0.0, |a| area_before_move - a);
@@ -89,6 +95,7 @@ impl Solver {
         };
 
         timed(&mut t.correct_ms, || self.filter_surface(particles));
+        timed(&mut t.move_ms, || self.relax_before_move(particles));
         let guarded = timed(&mut t.move_ms, || self.move_particles(particles, flume, dt))?;
         let area_after_move = self.mesh.area(&particles.position);
         let recovered = match self.volume_target_m2 {
@@ -98,6 +105,7 @@ impl Solver {
             _ => 0.0,
         };
         self.moved_area = Some(area_after_move + recovered);
+        timed(&mut t.move_ms, || self.relax_after_move(particles));
 
         Ok(StepReport {
             dt_s: dt,
