@@ -67,7 +67,7 @@ pub struct SolverParams {
     pub weak_surface_length_m: f64,
     /// Strength of the fourth-difference filter of the surface velocities (0: off).
     pub surface_filter: f64,
-    /// Relaxation time of the particles' areas towards the ones they carry, s (0: off).
+    /// Relaxation time T_r of the per-strip water-area ledger (`relax.rs`), s (0: off).
     pub volume_relaxation_s: f64,
     /// A fluid speed above this stops the run as diverged, m/s (ten times the speed of a fall
     /// from the top of the flume, sqrt(2 g H)).

@@ -53,7 +53,8 @@ pub(crate) struct AreaLedger {
     /// The strip areas of the last mesh after its move (of the initial mesh before the first
     /// step; `None` until then).
     moved: Option<Vec<f64>>,
-    /// The triangle areas before the move.
+    /// The triangle areas before the move (taken after the α-shape; the nodes do not move
+    /// in between).
     before_move: Vec<f64>,
 }
 
@@ -192,8 +193,12 @@ impl Solver {
             deep[b as usize] = false;
         }
         let mut share = vec![0.0; n];
+        // The positions stay as they are until the move: these are also the areas the move's
+        // change is measured from.
+        ledger.before_move.clear();
         for t in &mesh.triangles {
             let area = crate::fem::triangle_area(x, t);
+            ledger.before_move.push(area);
             let walled = t.iter().any(|&i| !particles.is_fluid(i as usize));
             for &i in t {
                 share[i as usize] += area / 3.0;
@@ -217,21 +222,6 @@ impl Solver {
                 self.divergence_target[i] = rate[b];
             }
         }
-    }
-
-    /// Before the move: the triangle areas the motion change is measured from.
-    pub(super) fn relax_before_move(&mut self, particles: &Particles) {
-        if self.params.volume_relaxation_s <= 0.0 {
-            return;
-        }
-        let x = &particles.position;
-        self.ledger.before_move.clear();
-        self.ledger.before_move.extend(
-            self.mesh
-                .triangles
-                .iter()
-                .map(|t| crate::fem::triangle_area(x, t)),
-        );
     }
 
     /// After the move: books each triangle's area change and keeps the strip areas for the

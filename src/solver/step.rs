@@ -95,7 +95,6 @@ impl Solver {
         };
 
         timed(&mut t.correct_ms, || self.filter_surface(particles));
-        timed(&mut t.move_ms, || self.relax_before_move(particles));
         let guarded = timed(&mut t.move_ms, || self.move_particles(particles, flume, dt))?;
         let area_after_move = self.mesh.area(&particles.position);
         let recovered = match self.volume_target_m2 {
