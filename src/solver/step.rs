@@ -4,18 +4,19 @@
 //!    colliding surface nodes (if asked);
 //! 1. `remesh`: Delaunay triangulation of every node;
 //! 2. `alpha_shape`: keep triangles with R < α·h, drop all-wall ones, find the free surface;
-//! 2b. `relax` (optional): book what the remesh changed in the per-strip area ledger, and ask
-//!    the deep nodes of each strip for the divergence that pays its balance back (`relax.rs`);
+//!    then (optional) `relax`: book what the remesh changed in the per-strip area ledger, and
+//!    ask the deep nodes of each strip for the divergence s that pays its balance back
+//!    (`relax.rs`);
 //! 3. `elements`: areas, gradients, lumped mass, Smagorinsky μ_e, τ;
 //! 4. `predict`: ũ from momentum without the pressure increment;
 //! 5. `assemble` + `pressure_solve`: (Δt/ρ L + L_τ) pⁿ⁺¹ = −Dũ + Ms + γ(Δt/ρ)L pⁿ − Qπⁿ (s the
-//!    divergence target of 2b), p = 0 on the
+//!    divergence target of stage 2), p = 0 on the
 //!    free surface, strongly or weakly (the pattern is built right after the α-shape, so that its symbolic
 //!    factorisation runs on the second core during stages 3–5);
 //! 6. `correct`: uⁿ⁺¹ = ũ + Δt M⁻¹ Dᵀ(pⁿ⁺¹ − γpⁿ), and π from pⁿ⁺¹;
 //!    then (optional) the fourth-difference filter of the surface velocities (`filter.rs`);
 //! 7. `move`: xⁿ⁺¹ = xⁿ + Δt uⁿ⁺¹ (thesis eq. 2.59), then the wall guard, then (optional)
-//!    the volume recovery on the free surface (`volume.rs`), then (with 2b) book what the move
+//!    the volume recovery on the free surface (`volume.rs`), then (with `relax`) book what the move
 //!    changed in the ledger.
 //!
 //! If the new velocities would turn a kept triangle inside out within Δt, and the Δt policy
