@@ -11,6 +11,12 @@ use surflab::output::run::{RunOptions, log_frame, run};
 use surflab::output::summary::median;
 use surflab::simulation::Simulation;
 
+/// With the window (the default build), mimalloc, as Rerun's own viewer uses: the viewer
+/// allocates and frees many small blocks every frame.
+#[cfg(feature = "lab")]
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 #[derive(Parser)]
 #[command(
     name = "surflab",

@@ -108,8 +108,10 @@ pub fn run(opts: LabOptions) -> anyhow::Result<()> {
     native.viewport = native
         .viewport
         .with_title("surflab")
-        .with_inner_size([1500.0, 900.0]);
+        .with_inner_size([1280.0, 800.0]);
     let screenshot = opts.screenshot.clone();
+    let screenshot_mode = screenshot.is_some();
+    native.persist_window = !screenshot_mode;
     let after = opts.screenshot_after_s;
     let record_path = opts.record_path.clone();
     let autorun = true;
@@ -120,6 +122,8 @@ pub fn run(opts: LabOptions) -> anyhow::Result<()> {
             setup_renderer(cc)?;
             let startup = re_viewer::StartupOptions {
                 hide_welcome_screen: true,
+                // A screenshot starts from the defaults, whatever an earlier window saved.
+                persist_state: !screenshot_mode,
                 ..Default::default()
             };
             let mut app = re_viewer::App::new(

@@ -13,7 +13,7 @@ use crate::case::Case;
 use crate::diagnostics;
 use crate::diagnostics::surf::BreakingDetector;
 use crate::output::colormap::ColorScale;
-use crate::output::rrd::RrdLogger;
+use crate::output::rrd::{RrdLogger, Viewing};
 use crate::output::run::{gauge_values, log_frame};
 use crate::output::surf::{SurfRecorder, log_profiles};
 use crate::output::timeseries::gauge_columns;
@@ -210,6 +210,26 @@ pub fn adapt_share(share: f64, ui_fps: f64, drawing: bool) -> f64 {
     }
 }
 
+/// The solver thread's nice value. The window's frame goes through several threads in turn
+/// (the UI, and on a machine without a GPU the rasterizer's); each waits for the one before, so
+/// a solver step holding a core delays the whole frame. At nice 10 the scheduler gives those
+/// threads the core first, and the solver takes what they leave (on a 2-core VM with lavapipe
+/// about a quarter of a core either way). Paced as it is (see [`Pacer`]), it still runs.
+pub const SOLVER_NICE: i32 = 10;
+
+/// Lowers the calling thread's priority to [`SOLVER_NICE`], never raising it (Linux, where the
+/// nice value belongs to the thread; elsewhere nothing). A refusal is harmless and ignored.
+pub fn lower_priority() {
+    #[cfg(target_os = "linux")]
+    // SAFETY: get/setpriority only read their integer arguments; gettid has no preconditions.
+    unsafe {
+        let tid = libc::gettid() as libc::id_t;
+        if libc::getpriority(libc::PRIO_PROCESS, tid) < SOLVER_NICE {
+            let _ = libc::setpriority(libc::PRIO_PROCESS, tid, SOLVER_NICE);
+        }
+    }
+}
+
 /// Sinks the recording stream always feeds (the embedded viewer; nothing in tests).
 pub type SinkFactory = Arc<dyn Fn() -> Vec<Box<dyn LogSink>> + Send + Sync>;
 
@@ -235,6 +255,7 @@ impl WorkerHandle {
         let thread = std::thread::Builder::new()
             .name("surflab-solver".into())
             .spawn(move || {
+                lower_priority();
                 let mut w = Worker::new(case, sinks, status_tx, frame_budget, ui_frames);
                 w.run(cmd_rx);
             })
@@ -473,6 +494,7 @@ impl Worker {
             &outline,
             ColorScale { min: lo, max: hi },
             0.5 * self.case.particles.spacing_m,
+            Viewing::Live,
         ) {
             Ok(l) => self.logger = Some(l),
             Err(e) => self.status.error = Some(format!("cannot open the recording: {e}")),
@@ -648,5 +670,33 @@ mod tests {
         pacer.share = 1.0;
         pacer.after_frame(Duration::from_millis(20));
         assert_eq!(pacer.rest, Duration::ZERO);
+    }
+
+    /// The solver thread runs at nice 10; the thread that spawned it keeps its own priority.
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn the_solver_thread_yields_to_the_window() {
+        // SAFETY: getpriority only reads its integer arguments; gettid has no preconditions.
+        let nice_of_this_thread =
+            || unsafe { libc::getpriority(libc::PRIO_PROCESS, libc::gettid() as libc::id_t) };
+        let before = nice_of_this_thread();
+        let solver = std::thread::spawn(move || {
+            lower_priority();
+            nice_of_this_thread()
+        })
+        .join()
+        .unwrap();
+        // Lowering priority needs no privilege, so it must have happened, unless the thread
+        // already ran at a lower priority, which it keeps.
+        assert_eq!(
+            solver,
+            SOLVER_NICE.max(before),
+            "solver thread at nice {solver}"
+        );
+        assert_eq!(
+            nice_of_this_thread(),
+            before,
+            "the caller's priority changed"
+        );
     }
 }

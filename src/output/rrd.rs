@@ -13,7 +13,13 @@
 //! - `world/mesh`: triangle edges (each once), thin, only on frames that
 //!   carry triangles; cleared on the next frame without them so that an old
 //!   mesh is never drawn over newer particles.
-//! - `scalars/<name>`: one time series per scalar.
+//! - `scalars/<group>`: one entity per plot. A scalar named `group/series` is instance
+//!   `series` of `scalars/group`; a name without a group belongs to `scalars/diagnostics`.
+//!   The series names are logged statically as `SeriesLines` names, in the order first seen;
+//!   a series missing from a frame (a dry gauge, the timings before the first step) is NaN
+//!   there, a gap in its line. One entity per plot rather than per series: the viewer's cost per
+//!   frame grows with the number of entities, and 33 of them took a fifth of the lab window's
+//!   time on a software renderer.
 //! - `legend`: static markdown stating the colour map and its range.
 //!
 //! Time is the duration timeline `sim_time` (seconds of simulated time).
@@ -24,7 +30,7 @@ use std::path::Path;
 
 use nalgebra::Vector2;
 use rerun::archetypes::{
-    Clear, LineStrips2D, Points2D, Scalars, TextDocument, TextLog, Transform3D,
+    Clear, LineStrips2D, Points2D, Scalars, SeriesLines, TextDocument, TextLog, Transform3D,
 };
 use rerun::blueprint::components::PanelState;
 use rerun::blueprint::{
@@ -105,6 +111,30 @@ impl From<RecordingStreamError> for RrdError {
     }
 }
 
+/// The series of one plot: one entity, one instance per series.
+#[derive(Debug)]
+struct ScalarGroup {
+    path: EntityPath,
+    names: Vec<String>,
+    /// This frame's values, NaN where a series has none.
+    values: Vec<f64>,
+    /// How many names the last static `SeriesLines` carried.
+    names_logged: usize,
+    /// Whether any series of the group has a value this frame.
+    touched: bool,
+}
+
+/// Who the recording's blueprint is laid out for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Viewing {
+    /// A file reviewed later: the time panel starts collapsed, with its play controls.
+    Review,
+    /// The lab's live window: the time panel starts hidden (the toggle in the viewer's top bar
+    /// opens it). Collapsed, it still redraws its density graph of every entity each frame,
+    /// about 5 % of the window's time on a software renderer.
+    Live,
+}
+
 /// Writes flume frames to a Rerun recording stream.
 ///
 /// The per-frame conversion buffers are kept between calls, so after the first
@@ -130,8 +160,10 @@ pub struct RrdLogger {
     /// Whether `world/mesh` currently shows a mesh that must be cleared
     /// when a frame arrives without triangles.
     mesh_shown: bool,
-    /// Entity paths of the scalars seen so far.
-    scalar_paths: HashMap<String, EntityPath>,
+    /// The plots' scalar groups, in the order first seen, and where each is by name.
+    scalar_groups: Vec<ScalarGroup>,
+    group_index: HashMap<String, usize>,
+    viewing: Viewing,
 }
 
 impl RrdLogger {
@@ -154,16 +186,24 @@ impl RrdLogger {
             .map_err(|e| RrdError::InvalidInput(format!("bad application id {app_id:?}: {e}")))?;
         let rec = RecordingStreamBuilder::new(app).save(path)?;
         rec.set_log_time_enabled(false);
-        Self::from_stream(rec, flume_outline, scale, particle_radius_m)
+        Self::from_stream(
+            rec,
+            flume_outline,
+            scale,
+            particle_radius_m,
+            Viewing::Review,
+        )
     }
 
     /// Same as [`Self::create`], but logs into an existing stream (which may
-    /// fan out to several sinks). The stream's settings are left as they are.
+    /// fan out to several sinks), with the blueprint laid out for `viewing`. The stream's
+    /// settings are left as they are.
     pub fn from_stream(
         rec: RecordingStream,
         flume_outline: &[[f64; 2]],
         scale: ColorScale,
         particle_radius_m: f64,
+        viewing: Viewing,
     ) -> Result<Self, RrdError> {
         check_radius(particle_radius_m)?;
         let logger = Self {
@@ -177,7 +217,9 @@ impl RrdLogger {
             mesh_edges: Vec::new(),
             mesh_segs: Vec::new(),
             mesh_shown: false,
-            scalar_paths: HashMap::new(),
+            scalar_groups: Vec::new(),
+            group_index: HashMap::new(),
+            viewing,
         };
         logger.log_static_scene(flume_outline)?;
         logger.send_blueprint(false)?;
@@ -255,35 +297,30 @@ impl RrdLogger {
             flume.into()
         };
         // Physical series and per-stage timings have different units: one view each.
-        let scalars = TimeSeriesView::new("diagnostics")
-            .with_origin("/scalars")
-            .with_contents([
-                "+ /scalars/**",
-                "- /scalars/timing_ms/**",
-                "- /scalars/gauges/**",
-            ]);
+        let scalars = TimeSeriesView::new("diagnostics").with_origin("/scalars/diagnostics");
         let gauges =
             TimeSeriesView::new("gauges: η (m), u and w (m/s)").with_origin("/scalars/gauges");
         let timings = TimeSeriesView::new("ms per stage").with_origin("/scalars/timing_ms");
         let info = Tabs::new([
+            scalars.into(),
             timings.into(),
             TextDocumentView::new("legend")
                 .with_origin("/legend")
                 .into(),
             TextLogView::new("log").with_origin("/").into(),
         ]);
-        let side = Vertical::new([scalars.into(), gauges.into(), info.into()])
-            .with_row_shares([2.0, 2.0, 1.0]);
+        let side = Vertical::new([gauges.into(), info.into()]).with_row_shares([1.0, 1.0]);
         let root = Horizontal::new([left, side.into()]).with_column_shares([3.0, 2.0]);
         // The viewer's own side panels start collapsed: the flume and the plots get the room.
         let blueprint = Blueprint::new(root)
             .with_blueprint_panel(BlueprintPanel::new().with_state(PanelState::Collapsed))
             .with_selection_panel(SelectionPanel::new().with_state(PanelState::Collapsed))
-            .with_time_panel(
-                TimePanel::new()
-                    .with_timeline(SIM_TIMELINE)
-                    .with_state(PanelState::Collapsed),
-            );
+            .with_time_panel(TimePanel::new().with_timeline(SIM_TIMELINE).with_state(
+                match self.viewing {
+                    Viewing::Review => PanelState::Collapsed,
+                    Viewing::Live => PanelState::Hidden,
+                },
+            ));
         blueprint.send(&self.rec, BlueprintActivation::default())?;
         Ok(())
     }
@@ -386,17 +423,58 @@ impl RrdLogger {
             self.mesh_shown = false;
         }
 
-        // Scalars.
+        // Scalars: one entity per group.
+        for g in &mut self.scalar_groups {
+            g.values.fill(f64::NAN);
+            g.touched = false;
+        }
         for &(name, value) in frame.scalars {
-            let path = match self.scalar_paths.get(name) {
-                Some(p) => p.clone(),
+            let (group, series) = name.rsplit_once('/').unwrap_or(("diagnostics", name));
+            if group.is_empty() || series.is_empty() {
+                return Err(RrdError::InvalidInput(format!(
+                    "scalar name {name:?} needs a group and a series name"
+                )));
+            }
+            let gi = match self.group_index.get(group) {
+                Some(&gi) => gi,
                 None => {
-                    let p = EntityPath::from(format!("scalars/{name}"));
-                    self.scalar_paths.insert(name.to_owned(), p.clone());
-                    p
+                    self.scalar_groups.push(ScalarGroup {
+                        path: EntityPath::from(format!("scalars/{group}")),
+                        names: Vec::new(),
+                        values: Vec::new(),
+                        names_logged: 0,
+                        touched: false,
+                    });
+                    self.group_index
+                        .insert(group.to_owned(), self.scalar_groups.len() - 1);
+                    self.scalar_groups.len() - 1
                 }
             };
-            self.rec.log(path, &Scalars::single(value))?;
+            let g = &mut self.scalar_groups[gi];
+            let k = match g.names.iter().position(|n| n == series) {
+                Some(k) => k,
+                None => {
+                    g.names.push(series.to_owned());
+                    g.values.push(f64::NAN);
+                    g.names.len() - 1
+                }
+            };
+            g.values[k] = value;
+            g.touched = true;
+        }
+        for g in &mut self.scalar_groups {
+            if !g.touched {
+                continue;
+            }
+            if g.names_logged != g.names.len() {
+                self.rec.log_static(
+                    g.path.clone(),
+                    &SeriesLines::new().with_names(g.names.iter().map(String::as_str)),
+                )?;
+                g.names_logged = g.names.len();
+            }
+            self.rec
+                .log(g.path.clone(), &Scalars::new(g.values.iter().copied()))?;
         }
         Ok(())
     }
@@ -596,8 +674,9 @@ mod tests {
             ("/world/boundary", 3),
             // Triangles on frame 1, then a clear on frame 2.
             ("/world/mesh", 2),
-            ("/scalars/volume_m2", 3),
-            ("/scalars/timing_ms/remesh", 3),
+            // Three frames and the static series names.
+            ("/scalars/diagnostics", 4),
+            ("/scalars/timing_ms", 4),
             ("/events", 1),
         ] {
             assert_eq!(
@@ -610,6 +689,71 @@ mod tests {
         assert!(s.timelines.contains(SIM_TIMELINE), "{:?}", s.timelines);
         assert!(!s.timelines.contains("log_time"), "{:?}", s.timelines);
         std::fs::remove_file(&path).ok();
+    }
+
+    #[test]
+    fn scalars_are_grouped_one_entity_per_plot_with_nan_gaps() {
+        let path = temp_rrd("groups");
+        let mut logger = RrdLogger::create(
+            &path,
+            "surflab_test",
+            &OUTLINE,
+            ColorScale::new(-1.0, 1.0),
+            0.02,
+        )
+        .expect("create");
+        let (pos, vel, fluid) = small_state(0.0);
+        let frames: [&[(&str, f64)]; 3] = [
+            &[("volume_m2", 0.2), ("gauges/eta_1.0", 0.01)],
+            // The first gauge dry, a second one wet: the first is a gap.
+            &[("volume_m2", 0.3), ("gauges/eta_2.0", 0.02)],
+            &[("gauges/eta_1.0", 0.03), ("gauges/eta_2.0", 0.04)],
+        ];
+        for (f, scalars) in frames.iter().enumerate() {
+            let frame = FrameView {
+                t_s: 0.1 * f as f64,
+                positions: &pos,
+                velocities: &vel,
+                is_fluid: &fluid,
+                boundary_edges: &[],
+                triangles: None,
+                scalars,
+            };
+            logger.log_frame(&frame).expect("log_frame");
+            let g = &logger.scalar_groups[logger.group_index["gauges"]];
+            match f {
+                0 => assert_eq!(g.names, ["eta_1.0"]),
+                1 => {
+                    assert_eq!(g.names, ["eta_1.0", "eta_2.0"]);
+                    assert!(g.values[0].is_nan() && g.values[1] == 0.02);
+                }
+                _ => assert_eq!(g.values, [0.03, 0.04]),
+            }
+        }
+        let d = &logger.scalar_groups[logger.group_index["diagnostics"]];
+        assert_eq!(d.path, EntityPath::from("scalars/diagnostics"));
+        assert_eq!(d.names, ["volume_m2"]);
+        assert!(!d.touched, "diagnostics logged on a frame without them");
+        for bad in ["gauges/", "/eta"] {
+            let frame = FrameView {
+                t_s: 0.5,
+                positions: &pos,
+                velocities: &vel,
+                is_fluid: &fluid,
+                boundary_edges: &[],
+                triangles: None,
+                scalars: &[(bad, 1.0)],
+            };
+            assert!(logger.log_frame(&frame).is_err(), "{bad:?} accepted");
+        }
+        logger.flush();
+        drop(logger);
+        let s = summarize(&read_rrd(&path));
+        // The gauges: three frames, plus the static names logged twice (each time a name came).
+        assert_eq!(s.rows.get("/scalars/gauges"), Some(&5), "{:?}", s.rows);
+        // The diagnostics: two frames and their names once.
+        assert_eq!(s.rows.get("/scalars/diagnostics"), Some(&3), "{:?}", s.rows);
+        let _ = std::fs::remove_file(&path);
     }
 
     #[test]
