@@ -624,6 +624,18 @@ mod tests {
         (pos, vel, fluid)
     }
 
+    /// A logger writing to `path`, u1 coloured over ±1 m/s, particles of radius 2 cm.
+    fn test_logger(path: &Path) -> RrdLogger {
+        RrdLogger::create(
+            path,
+            "surflab_test",
+            &OUTLINE,
+            ColorScale::new(-1.0, 1.0),
+            0.02,
+        )
+        .expect("create")
+    }
+
     fn write_small_run(logger: &mut RrdLogger) {
         let edges = [[5u32, 6], [6, 7], [7, 8], [8, 9]];
         // Two triangles sharing the edge 1-5: five distinct edges.
@@ -694,14 +706,7 @@ mod tests {
     #[test]
     fn scalars_are_grouped_one_entity_per_plot_with_nan_gaps() {
         let path = temp_rrd("groups");
-        let mut logger = RrdLogger::create(
-            &path,
-            "surflab_test",
-            &OUTLINE,
-            ColorScale::new(-1.0, 1.0),
-            0.02,
-        )
-        .expect("create");
+        let mut logger = test_logger(&path);
         let (pos, vel, fluid) = small_state(0.0);
         let frames: [&[(&str, f64)]; 3] = [
             &[("volume_m2", 0.2), ("gauges/eta_1.0", 0.01)],
@@ -759,14 +764,7 @@ mod tests {
     #[test]
     fn dropped_without_flush_is_decodable() {
         let path = temp_rrd("dropped");
-        let mut logger = RrdLogger::create(
-            &path,
-            "surflab_test",
-            &OUTLINE,
-            ColorScale::new(-1.0, 1.0),
-            0.02,
-        )
-        .expect("create");
+        let mut logger = test_logger(&path);
         write_small_run(&mut logger);
         drop(logger);
 
@@ -785,14 +783,7 @@ mod tests {
         // A killed process leaves a file without the end-of-stream marker and
         // footer; what was flushed before must still decode.
         let path = temp_rrd("open");
-        let mut logger = RrdLogger::create(
-            &path,
-            "surflab_test",
-            &OUTLINE,
-            ColorScale::new(-1.0, 1.0),
-            0.02,
-        )
-        .expect("create");
+        let mut logger = test_logger(&path);
         write_small_run(&mut logger);
         logger.flush();
         let s = summarize(&read_rrd(&path));
@@ -809,14 +800,7 @@ mod tests {
     #[test]
     fn bad_frames_are_rejected_and_the_logger_stays_usable() {
         let path = temp_rrd("bad");
-        let mut logger = RrdLogger::create(
-            &path,
-            "surflab_test",
-            &OUTLINE,
-            ColorScale::new(-1.0, 1.0),
-            0.02,
-        )
-        .expect("create");
+        let mut logger = test_logger(&path);
         let (pos, vel, fluid) = small_state(0.0);
         let good = FrameView {
             t_s: 0.0,
