@@ -3,12 +3,17 @@
 //! height H = h/(2a) against τ = t·sqrt(g/a), the volume up to the impact, and convergence in h.
 //!
 //! What the runs show (see the README): the simulated front leads the measured one by a nearly
-//! constant ΔT ≈ 0.19 (16 ms), gained in the first 0.07 s; after that its speed matches the
+//! constant ΔT ≈ 0.2 (17 ms), gained in the first 0.07 s; after that its speed matches the
 //! data. An instantaneous release against a real gate that takes time to clear the column is
 //! the usual reading of such a lead. So the test asserts the raw error is reported, the front
 //! speed, the error once the experiment's time origin is fitted (a shift of at most ΔT = 0.4),
-//! the column height and the volume. The raw mean |ΔZ| (about 0.23) misses the issue's 0.10 and
+//! the column height and the volume. The raw mean |ΔZ| (about 0.24) misses the issue's 0.10 and
 //! is printed, not hidden.
+//!
+//! A correction that is not fitted here: Lethe's dam-break example (chaos-polymtl/lethe,
+//! `examples/multiphysics/dam-break/dam-break-2d.py`) plots its VOF front against the same
+//! Martin & Moyce table with the simulated T advanced by a fixed 0.175 for the release. The
+//! error with that published shift is asserted too.
 
 mod common;
 
@@ -19,12 +24,16 @@ const A_M: f64 = 0.146;
 const G: f64 = 9.81;
 /// The front reaches the far wall (x = 4a) at t ≈ 0.28 s; stop just after.
 const UNTIL_S: f64 = 0.29;
+/// The release time Lethe adds to its simulated T before comparing with this table (see the
+/// top of this file).
+const PUBLISHED_SHIFT_T: f64 = 0.175;
 
 struct Figures {
     particles: usize,
     front_raw: f64,
     front_shifted: f64,
     shift_t: f64,
+    front_published_shift: f64,
     speed_ratio: f64,
     column: f64,
     volume_drift: f64,
@@ -59,6 +68,7 @@ fn figures(series: &[Integrals], particles: usize) -> Figures {
         )
     };
     let front_raw = error_with_shift(0.0);
+    let front_published_shift = error_with_shift(PUBLISHED_SHIFT_T);
     let (front_shifted, shift_t) = (0..=40)
         .map(|k| (error_with_shift(0.01 * k as f64), 0.01 * k as f64))
         .min_by(|a, b| a.0.total_cmp(&b.0))
@@ -98,6 +108,7 @@ fn figures(series: &[Integrals], particles: usize) -> Figures {
         front_raw,
         front_shifted,
         shift_t,
+        front_published_shift,
         speed_ratio,
         column: mean(&column),
         volume_drift,
@@ -113,7 +124,7 @@ fn run_at(spacing_m: f64, name: &str) -> Figures {
     let f = figures(&outcome.series, outcome.summary.particles);
     println!(
         "dam break h = {:.2} mm: {} particles, {} steps, {:.1} ms/step median | front mean |ΔZ| (T ≤ 3) = {:.3} raw, \
-         {:.3} with the time origin shifted by ΔT = {:.2} ({:.1} ms) | front speed dZ/dT on T ∈ [1.4, 3] = {:.3} × data | \
+         {:.3} with the time origin shifted by ΔT = {:.2} ({:.1} ms), {:.3} with Lethe's ΔT = {PUBLISHED_SHIFT_T} | front speed dZ/dT on T ∈ [1.4, 3] = {:.3} × data | \
          column mean |ΔH| = {:.4} | volume drift to the impact = {:.3} %",
         spacing_m * 1e3,
         f.particles,
@@ -123,6 +134,7 @@ fn run_at(spacing_m: f64, name: &str) -> Figures {
         f.front_shifted,
         f.shift_t,
         f.shift_t / (2.0 * G / A_M).sqrt() * 1e3,
+        f.front_published_shift,
         f.speed_ratio,
         f.column,
         100.0 * f.volume_drift
@@ -135,7 +147,7 @@ fn dam_break_against_martin_moyce_and_in_h() {
     let fine = run_at(0.00292, "dam-fine");
     let coarse = run_at(0.00584, "dam-coarse");
     println!(
-        "convergence h = 5.84 → 2.92 mm: shifted front error {:.3} → {:.3}; |speed ratio − 1| {:.3} → {:.3}; volume drift {:.3} % → {:.3} %; raw front error {:.3} → {:.3}",
+        "convergence h = 5.84 → 2.92 mm: shifted front error {:.3} → {:.3}; |speed ratio − 1| {:.3} → {:.3}; volume drift {:.3} % → {:.3} %; raw front error {:.3} → {:.3}; with Lethe's shift {:.3} → {:.3}",
         coarse.front_shifted,
         fine.front_shifted,
         (coarse.speed_ratio - 1.0).abs(),
@@ -143,7 +155,9 @@ fn dam_break_against_martin_moyce_and_in_h() {
         100.0 * coarse.volume_drift,
         100.0 * fine.volume_drift,
         coarse.front_raw,
-        fine.front_raw
+        fine.front_raw,
+        coarse.front_published_shift,
+        fine.front_published_shift
     );
     // The front: its speed within 5 % of the data, and its position within 0.10 in Z once the
     // time origin is fitted (the raw figure is printed above).
@@ -158,6 +172,12 @@ fn dam_break_against_martin_moyce_and_in_h() {
         fine.front_shifted
     );
     assert!(fine.shift_t <= 0.3, "time-origin shift {}", fine.shift_t);
+    // The same with the published release time instead of a fitted one.
+    assert!(
+        fine.front_published_shift <= 0.10,
+        "front error with the published shift {}",
+        fine.front_published_shift
+    );
     // The residual column follows the table to within 0.05 in H = h/(2a).
     assert!(fine.column < 0.05, "mean |ΔH| = {}", fine.column);
     // Volume within 1 % up to the impact.

@@ -202,3 +202,32 @@ fn a_thousand_random_changes_while_running() {
     );
     assert!(furthest > 0.0, "the worker never advanced");
 }
+
+#[test]
+fn a_new_height_keeps_the_presets_paddle_calibration() {
+    let presets = presets_in(&cases_dir());
+    let tk = presets
+        .iter()
+        .find(|p| p.name == "ting_kirby_plunging")
+        .expect("cases/ting_kirby_plunging.toml");
+    let case = surflab::case::Case::from_toml_str(&tk.text, &tk.path, &tk.name, &[]).unwrap();
+    let mut controls = surflab::lab::controls::Controls::from_case(&case);
+    controls.height_m = Some(0.064);
+    let w = controls.case(tk).unwrap().wavemaker.unwrap();
+    println!(
+        "H {} m → paddle driven for {:.4} m (ratio {:.4})",
+        w.height_m,
+        w.paddle_height(),
+        controls.paddle_ratio
+    );
+    assert_eq!(w.height_m, 0.064);
+    assert!((w.paddle_height() - 0.064 * 0.111 / 0.128).abs() < 1e-12);
+    // Without a calibration the paddle is driven for H itself.
+    let beach = presets.iter().find(|p| p.name == "teaching_beach").unwrap();
+    let case =
+        surflab::case::Case::from_toml_str(&beach.text, &beach.path, &beach.name, &[]).unwrap();
+    let mut controls = surflab::lab::controls::Controls::from_case(&case);
+    controls.height_m = Some(0.05);
+    let w = controls.case(beach).unwrap().wavemaker.unwrap();
+    assert_eq!((w.paddle_height_m, w.paddle_height()), (None, 0.05));
+}

@@ -91,16 +91,31 @@ fn an_enclosed_air_pocket_is_a_cavity_not_a_fold() {
 #[test]
 fn breaker_rules() {
     let hb = 0.2;
-    // Offshore of the shoreline (h_b ≥ H_b / 2): the jet's reach decides.
-    assert_eq!(classify(0.3, hb, 0.0, false), BreakerType::Spilling);
-    assert_eq!(classify(0.3, hb, 0.099, true), BreakerType::Spilling);
-    assert_eq!(classify(0.3, hb, 0.101, false), BreakerType::Plunging);
-    assert_eq!(classify(0.1, hb, 0.2, true), BreakerType::Plunging);
-    // At the shoreline: a long jet that traps air plunges, anything else collapses.
-    assert_eq!(classify(0.05, hb, 0.1, true), BreakerType::Plunging);
-    assert_eq!(classify(0.05, hb, 0.1, false), BreakerType::Collapsing);
-    assert_eq!(classify(0.05, hb, 0.02, true), BreakerType::Collapsing);
-    assert_eq!(classify(0.0, hb, 0.0, false), BreakerType::Collapsing);
+    // Offshore of the shoreline (h_b ≥ H_b / 2): the fold's reach decides, and where on the
+    // wave it starts.
+    assert_eq!(classify(0.3, hb, 0.0, 0.0, false), BreakerType::Spilling);
+    assert_eq!(classify(0.3, hb, 0.099, 0.18, true), BreakerType::Spilling);
+    assert_eq!(classify(0.3, hb, 0.101, 0.18, false), BreakerType::Plunging);
+    assert_eq!(classify(0.1, hb, 0.2, 0.15, true), BreakerType::Plunging);
+    // A long fold low on the face: the front collapses, the crest does not plunge.
+    assert_eq!(
+        classify(0.3, hb, 0.15, 0.099, false),
+        BreakerType::Collapsing
+    );
+    assert_eq!(classify(0.3, hb, 0.15, 0.101, false), BreakerType::Plunging);
+    // At the shoreline: a long jet from the crest that traps air plunges, anything else
+    // collapses.
+    assert_eq!(classify(0.05, hb, 0.1, 0.15, true), BreakerType::Plunging);
+    assert_eq!(classify(0.05, hb, 0.1, 0.05, true), BreakerType::Collapsing);
+    assert_eq!(
+        classify(0.05, hb, 0.1, 0.15, false),
+        BreakerType::Collapsing
+    );
+    assert_eq!(
+        classify(0.05, hb, 0.02, 0.15, true),
+        BreakerType::Collapsing
+    );
+    assert_eq!(classify(0.0, hb, 0.0, 0.0, false), BreakerType::Collapsing);
 }
 
 #[test]
@@ -181,6 +196,7 @@ fn a_surf_run_writes_breaking_undertow_and_profiles() {
         "predicted",
         "observed",
         "x_b_m",
+        "x_onset_m",
         "h_b_m",
         "H_b_m",
         "t_b_s",

@@ -137,8 +137,14 @@ pub enum WaveTheory {
 pub struct WavemakerSettings {
     pub paddle: PaddleType,
     pub theory: WaveTheory,
-    /// Target wave height H.
+    /// Target wave height H: the Iribarren number and the surf observers use it.
     pub height_m: f64,
+    /// The height the paddle's theory is driven for, when it is not `height_m`: a calibration.
+    /// In a closed flume the beach's reflection, re-reflected by the paddle, changes the
+    /// incident height, so the Ting & Kirby cases drive the paddle for the height that gives
+    /// their measured H at the offshore gauge. Default: `height_m`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub paddle_height_m: Option<f64>,
     /// Wave period T (linear and cnoidal).
     #[serde(default)]
     pub period_s: f64,
@@ -148,6 +154,13 @@ pub struct WavemakerSettings {
     /// Rest position of the paddle face (for a flap, of its hinge on the bed). The water starts
     /// in front of it; the flume behind it stays dry. It must leave room for the backward stroke.
     pub x_m: f64,
+}
+
+impl WavemakerSettings {
+    /// The height the paddle is driven for (`paddle_height_m`, else `height_m`), m.
+    pub fn paddle_height(&self) -> f64 {
+        self.paddle_height_m.unwrap_or(self.height_m)
+    }
 }
 
 fn default_ramp_periods() -> f64 {
@@ -585,12 +598,19 @@ impl Case {
                     PaddleType::Piston => PaddleKind::Piston,
                     PaddleType::Flap => PaddleKind::Flap,
                 };
-                PaddleMotion::linear(kind, w.height_m, w.period_s, depth, g, w.ramp_periods)
+                PaddleMotion::linear(
+                    kind,
+                    w.paddle_height(),
+                    w.period_s,
+                    depth,
+                    g,
+                    w.ramp_periods,
+                )
             }
             WaveTheory::Cnoidal => {
-                PaddleMotion::cnoidal(w.height_m, w.period_s, depth, g, w.ramp_periods)
+                PaddleMotion::cnoidal(w.paddle_height(), w.period_s, depth, g, w.ramp_periods)
             }
-            WaveTheory::Solitary => PaddleMotion::solitary(w.height_m, depth, g),
+            WaveTheory::Solitary => PaddleMotion::solitary(w.paddle_height(), depth, g),
         })
     }
 
@@ -935,6 +955,14 @@ impl Case {
                 format!("{:?} theory drives a piston, not a flap", w.theory).to_lowercase(),
             );
         }
+        if let Some(v) = w.paddle_height_m
+            && !(v.is_finite() && v > 0.0)
+        {
+            return err(
+                "wavemaker.paddle_height_m",
+                format!("must be a positive number, got {v}"),
+            );
+        }
         if w.theory != WaveTheory::Solitary && !(w.period_s.is_finite() && w.period_s > 0.0) {
             return err(
                 "wavemaker.period_s",
@@ -954,7 +982,11 @@ impl Case {
             Some(Ok(m)) => m,
             Some(Err(e)) => {
                 return err(
-                    "wavemaker.height_m",
+                    if w.paddle_height_m.is_some() {
+                        "wavemaker.paddle_height_m"
+                    } else {
+                        "wavemaker.height_m"
+                    },
                     format!("the wave cannot be made: {e}"),
                 );
             }
@@ -1016,6 +1048,20 @@ mod tests {
     fn parse(text: &str, overrides: &[&str]) -> Result<Case, CaseError> {
         let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
         Case::from_toml_str(text, Path::new("test.toml"), "test", &o)
+    }
+
+    #[test]
+    fn a_calibrated_paddle_is_driven_for_its_own_height() {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/ting_kirby_spilling.toml");
+        let c = Case::load(&path, &[]).unwrap();
+        let w = c.wavemaker.as_ref().unwrap();
+        assert_eq!((w.height_m, w.paddle_height()), (0.125, 0.120));
+        let depth = c.paddle_depth_m().unwrap();
+        let expected = PaddleMotion::cnoidal(0.120, 2.0, depth, 9.81, w.ramp_periods).unwrap();
+        let motion = c.paddle_motion().unwrap().unwrap();
+        assert_eq!(motion.excursion_m(), expected.excursion_m());
+        let e = Case::load(&path, &["wavemaker.paddle_height_m=-0.1".into()]).unwrap_err();
+        assert!(e.to_string().contains("wavemaker.paddle_height_m"), "{e}");
     }
 
     #[test]

@@ -241,9 +241,70 @@ pub fn wave_stats(
     })
 }
 
+/// Mean over `periods` whole periods from `from_s` of the range of η within each period
+/// (highest minus lowest wet sample), m. Unlike the zero-up-crossing height, a long cnoidal
+/// wave's secondary oscillations in its trough do not count as waves of their own. `None` when
+/// a period has no wet sample.
+pub fn period_height_m(
+    t_s: &[f64],
+    eta_m: &[Option<f64>],
+    from_s: f64,
+    period_s: f64,
+    periods: usize,
+) -> Option<f64> {
+    if periods == 0 {
+        return None;
+    }
+    let mut sum = 0.0;
+    for n in 0..periods {
+        let (a, b) = (
+            from_s + n as f64 * period_s - 1e-9,
+            from_s + (n + 1) as f64 * period_s - 1e-9,
+        );
+        let (lo, hi) = t_s
+            .iter()
+            .zip(eta_m)
+            .filter(|(t, _)| **t >= a && **t < b)
+            .filter_map(|(_, e)| *e)
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), e| {
+                (lo.min(e), hi.max(e))
+            });
+        if lo > hi {
+            return None;
+        }
+        sum += hi - lo;
+    }
+    Some(sum / periods as f64)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn period_height_ignores_the_secondary_crests_of_a_long_wave() {
+        // A peaked 0.1 m crest every 5 s (at 2.5 s into each period) over a flat trough, with
+        // a ±0.02 m ripple at 1 s: the ripple crosses the mean level in the trough, so the
+        // zero-up-crossing count finds five waves per period; the range per period is the
+        // crest plus the ripple's trough, 0.12 m, and up to the ripple's crest more (0.14 m).
+        let t: Vec<f64> = (0..4000).map(|i| i as f64 * 0.005).collect();
+        let eta: Vec<Option<f64>> = t
+            .iter()
+            .map(|t| {
+                let phase = t % 5.0;
+                Some(
+                    0.1 * (-((phase - 2.5) / 0.4).powi(2)).exp()
+                        + 0.02 * (std::f64::consts::TAU * t).sin(),
+                )
+            })
+            .collect();
+        let h = period_height_m(&t, &eta, 0.0, 5.0, 4).unwrap();
+        let zero_up = wave_stats(&t, &eta, 0.0, 4).unwrap().mean_height_m;
+        println!("per-period height {h:.4} m, zero-up-crossing {zero_up:.4} m");
+        assert!((0.12..=0.14).contains(&h), "{h}");
+        assert!(zero_up < 0.08, "{zero_up}");
+        assert_eq!(period_height_m(&t, &vec![None; t.len()], 0.0, 5.0, 4), None);
+    }
 
     #[test]
     fn wave_stats_of_a_sine() {

@@ -146,27 +146,49 @@ pub struct Breaker {
     /// Longest horizontal reach of an overturned part of the surface within half a period of
     /// the onset, m.
     pub overturn_reach_m: f64,
+    /// How high the top of that longest fold stood above the onset's trough, m: a plunging jet
+    /// is thrown from the crest, a collapsing front folds low on its face.
+    pub overturn_top_m: f64,
     /// An enclosed air cavity appeared within half a period of the onset.
     pub cavity: bool,
     /// The front was steeper than 60° at some time within half a period of the onset.
     pub steep_face: bool,
+    /// Where and when the front first folded over (a fold of 2 h or more by the followed
+    /// crest) within half a period of the onset: the crest's flume x, m, its still depth, m,
+    /// and the time, s. The same as the onset's when the onset was an overturning.
+    pub fold_x_m: Option<f64>,
+    pub fold_h_m: Option<f64>,
+    pub fold_t_s: Option<f64>,
 }
 
 /// Surf-zone features of a breaker, to a type. Thresholds (method.md §6, with h_b / H_b
-/// separating breaking offshore of the shoreline from breaking on it):
-/// - offshore (h_b ≥ 0.5 H_b): plunging when the overturned part reaches 0.5 H_b or more (a
-///   plunging jet lands about a wave height ahead of the crest; a spilling crest's roller is
-///   a fraction of it), spilling otherwise;
-/// - at the shoreline (h_b < 0.5 H_b): plunging when a jet reaches 0.5 H_b and traps air,
+/// separating breaking offshore of the shoreline from breaking on it, and Galvin's (1968)
+/// description of a collapsing breaker: the crest stays whole while the lower face steepens
+/// and falls):
+/// - a long fold is one that reaches 0.5 H_b or more (a plunging jet lands about a wave height
+///   ahead of the crest; a spilling crest's roller is a fraction of it); it is thrown from the
+///   crest when its top stands in the upper half of the wave (`top_m`, above the trough, at
+///   least 0.5 H_b), and folds low on the face otherwise;
+/// - offshore (h_b ≥ 0.5 H_b): plunging for a long fold from the crest, collapsing for a long
+///   fold low on the face, spilling otherwise;
+/// - at the shoreline (h_b < 0.5 H_b): plunging for a long fold from the crest that traps air,
 ///   collapsing otherwise (the front steepened or folded where the water ends).
-pub fn classify(h_b_m: f64, height_b_m: f64, reach_m: f64, cavity: bool) -> BreakerType {
+pub fn classify(
+    h_b_m: f64,
+    height_b_m: f64,
+    reach_m: f64,
+    top_m: f64,
+    cavity: bool,
+) -> BreakerType {
+    let long = reach_m >= 0.5 * height_b_m;
+    let from_crest = top_m >= 0.5 * height_b_m;
     if h_b_m >= 0.5 * height_b_m {
-        if reach_m >= 0.5 * height_b_m {
-            BreakerType::Plunging
-        } else {
-            BreakerType::Spilling
+        match (long, from_crest) {
+            (true, true) => BreakerType::Plunging,
+            (true, false) => BreakerType::Collapsing,
+            (false, _) => BreakerType::Spilling,
         }
-    } else if cavity && reach_m >= 0.5 * height_b_m {
+    } else if cavity && long && from_crest {
         BreakerType::Plunging
     } else {
         BreakerType::Collapsing
@@ -194,7 +216,65 @@ struct BeachSetup {
 struct Watch {
     breaker: Breaker,
     until_s: f64,
-    cavities_at_onset: usize,
+    /// The breaking crest's x at the last frame, m: the breaker is followed, so that the folds
+    /// and cavities of the bores shoreward of it are not taken for its own.
+    crest_x_m: f64,
+    /// The onset's trough, m above the floor.
+    trough_m: f64,
+}
+
+/// Tells a new wave's breaking onset from the bores of the waves that broke before it.
+///
+/// In a periodic train several broken waves travel through the surf zone at once, and each
+/// bore meets the onset criteria all the way to the shore. Breaking starts at the most seaward
+/// breaking crest: each frame offers that crest, and it is a new onset when it lies more than
+/// `jump_m` seaward of the last frame's (a bore only moves shoreward) and at least `min_gap_s`
+/// after the last onset (a criterion that flickers off and on again is not a new wave). A
+/// breaking crest last seen more than `min_gap_s / 2` ago is forgotten: on a steep beach each
+/// wave has run up and gone before the next one breaks, at the same place.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct OnsetTracker {
+    /// (x, t) of the last frame's most seaward breaking crest.
+    last: Option<(f64, f64)>,
+    last_onset_s: Option<f64>,
+}
+
+impl OnsetTracker {
+    /// Offers one frame's most seaward breaking crest (`None`: nothing breaks); true for a new
+    /// onset.
+    pub fn offer(&mut self, t_s: f64, x_m: Option<f64>, jump_m: f64, min_gap_s: f64) -> bool {
+        let Some(x) = x_m else {
+            return false;
+        };
+        let seaward = self
+            .last
+            .is_none_or(|(last, seen)| x < last - jump_m || t_s - seen > 0.5 * min_gap_s);
+        let spaced = self.last_onset_s.is_none_or(|t0| t_s - t0 >= min_gap_s);
+        self.last = Some((x, t_s));
+        let new = seaward && spaced;
+        if new {
+            self.last_onset_s = Some(t_s);
+        }
+        new
+    }
+}
+
+/// The crest followed from `from_x_m`: the first local maximum of the top surface at or
+/// shoreward of `from_x_m − back_m` that stands at least `min_y` high, between samples `k_min`
+/// and `k_max`.
+pub fn follow_crest(
+    profile: &SurfaceProfile,
+    from_x_m: f64,
+    back_m: f64,
+    min_y: f64,
+    k_min: usize,
+    k_max: usize,
+) -> Option<f64> {
+    let k0 = profile.index(from_x_m - back_m).max(k_min + 1);
+    (k0..k_max).find_map(|k| {
+        let (y, yl, yr) = (profile.top(k)?, profile.top(k - 1)?, profile.top(k + 1)?);
+        (y >= yl && y > yr && y >= min_y).then(|| profile.x_m(k))
+    })
 }
 
 /// Watches every output frame for breaking; one per run.
@@ -204,6 +284,7 @@ pub struct BreakingDetector {
     pub iribarren: f64,
     pub predicted: Option<BreakerType>,
     watch: Option<Watch>,
+    tracker: OnsetTracker,
     /// Every breaker seen after the gate, in time order.
     pub breakers: Vec<Breaker>,
     /// Highest water above still level shoreward of the still shoreline, m.
@@ -220,14 +301,21 @@ pub struct BreakingSummary {
     /// of them on a tie), `surging` when no wave broke but the water ran up the beach, `none`
     /// otherwise.
     pub observed: &'static str,
-    /// The breaking point (flume x), still depth, height and time. With `basis` = "steady":
-    /// the medians over the steady breakers (after `steady_from_s`, at least 0.75 H high) and
-    /// the time of the first of them; with "first": the first breaker's (no steady breaker);
-    /// null when none broke.
+    /// The breaking point (flume x) and its still depth: where each breaker's front first
+    /// folded over ([`Breaker::fold_x_m`]; the onset's point for one that never folded), the
+    /// visible start of breaking by which the reference data place it (air entrained at a
+    /// spilling crest, the face of a plunging one past vertical). With `basis` = "steady": the
+    /// medians over the steady breakers (after `steady_from_s`, at least 0.75 H high); with
+    /// "first": the first breaker's (no steady breaker); null when none broke.
     pub x_b_m: Option<f64>,
     /// `x_b_m − surf.x_origin_m`: the breaking point in the reference data's frame.
     pub x_b_data_frame_m: Option<f64>,
     pub h_b_m: Option<f64>,
+    /// The same medians of the onsets (the crest at the first sign of breaking, see
+    /// [`Breaker::onset`]), flume x and the data's frame, m.
+    pub x_onset_m: Option<f64>,
+    pub x_onset_data_frame_m: Option<f64>,
+    /// The wave height (at the onset) and the time of the first breaker used.
     #[serde(rename = "H_b_m")]
     pub height_b_m: Option<f64>,
     pub t_b_s: Option<f64>,
@@ -269,6 +357,7 @@ impl BreakingDetector {
             iribarren: f64::NAN,
             predicted: None,
             watch: None,
+            tracker: OnsetTracker::default(),
             breakers: Vec::new(),
             run_up_m: 0.0,
             shoreline_x_m: f64::NAN,
@@ -332,22 +421,32 @@ impl BreakingDetector {
         let span = |m: f64| ((m / profile.dx_m).round() as usize).max(1);
         let face_span = span(2.0 * s.h);
 
-        // Overturned runs: contiguous samples with three or more crossings.
-        let mut runs: Vec<(f64, f64)> = Vec::new();
+        // Overturned runs: contiguous samples with three or more crossings, kept when the
+        // water on top of them moves shoreward on average. A breaker's jet is thrown ahead of
+        // its crest; the roller of the backwash meeting the next wave folds seaward.
+        // Each run: (start x, end x, its highest top), m.
+        let mut runs: Vec<(f64, f64, f64)> = Vec::new();
         let mut start: Option<usize> = None;
-        for k in k_min..=k_max {
-            let folded = profile.crossings[k].len() >= 3;
+        let (mut top_u1, mut top_y) = (0.0, f64::NEG_INFINITY);
+        for k in k_min..=k_max + 1 {
+            let folded = k <= k_max && profile.crossings[k].len() >= 3;
             match (folded, start) {
-                (true, None) => start = Some(k),
+                (true, None) => {
+                    start = Some(k);
+                    (top_u1, top_y) = (profile.crossings[k][0].1, profile.crossings[k][0].0);
+                }
+                (true, Some(_)) => {
+                    top_u1 += profile.crossings[k][0].1;
+                    top_y = top_y.max(profile.crossings[k][0].0);
+                }
                 (false, Some(a)) => {
-                    runs.push((profile.x_m(a), profile.x_m(k)));
+                    if top_u1 > 0.0 {
+                        runs.push((profile.x_m(a), profile.x_m(k), top_y));
+                    }
                     start = None;
                 }
-                _ => {}
+                (false, None) => {}
             }
-        }
-        if let Some(a) = start {
-            runs.push((profile.x_m(a), profile.x_m(k_max + 1)));
         }
         let steep = |k: usize| -> bool {
             let (Some(a), Some(b)) = (profile.top(k), profile.top(k + face_span)) else {
@@ -355,50 +454,70 @@ impl BreakingDetector {
             };
             (a - b) / (face_span as f64 * profile.dx_m) > 3f64.sqrt()
         };
+        let depth_at = |x: f64| s.level_m - sim.case.bed_y_at(x);
 
+        // The breaker being watched: follow its crest for half a period and collect its
+        // longest fold, an air cavity and a steep face near it (from H_b behind the crest to
+        // 3 H_b ahead: a plunging jet lands about one to two wave heights ahead of it).
         if let Some(w) = &mut self.watch {
-            // Follow the breaker for half a period: its longest jet, new cavities, a steep face.
-            let lo = w.breaker.x_b_m - 0.25 * s.period_s * (s.g * s.level_m).sqrt();
-            for (a, b) in &runs {
-                if *b >= lo {
-                    w.breaker.overturn_reach_m = w.breaker.overturn_reach_m.max(b - a);
+            let hb = w.breaker.height_b_m.max(2.0 * s.h);
+            if let Some(x) = follow_crest(
+                profile,
+                w.crest_x_m,
+                2.0 * s.h,
+                s.level_m + 0.1 * s.height_m,
+                k_min,
+                k_max,
+            ) {
+                w.crest_x_m = x;
+            }
+            let (lo, hi) = (w.crest_x_m - hb, w.crest_x_m + 3.0 * hb);
+            for (a, b, top) in &runs {
+                if *b >= lo && *a <= hi {
+                    if b - a > w.breaker.overturn_reach_m {
+                        w.breaker.overturn_reach_m = b - a;
+                        w.breaker.overturn_top_m = top - w.trough_m;
+                    }
+                    if b - a >= 2.0 * s.h && w.breaker.fold_x_m.is_none() {
+                        w.breaker.fold_x_m = Some(w.crest_x_m);
+                        w.breaker.fold_h_m = Some(depth_at(w.crest_x_m).max(0.0));
+                        w.breaker.fold_t_s = Some(t);
+                    }
                 }
             }
-            if profile.cavities.len() > w.cavities_at_onset {
+            if profile.cavities.iter().any(|(c, _)| c.x >= lo && c.x <= hi) {
                 w.breaker.cavity = true;
             }
-            let k_lo = profile.index(lo).max(k_min);
-            if (k_lo..k_max.saturating_sub(face_span)).any(steep) {
+            let (k_lo, k_hi) = (profile.index(lo).max(k_min), profile.index(hi).min(k_max));
+            if (k_lo..k_hi.saturating_sub(face_span)).any(steep) {
                 w.breaker.steep_face = true;
             }
             if t >= w.until_s {
                 let mut b = w.breaker;
-                b.observed = classify(b.h_b_m, b.height_b_m, b.overturn_reach_m, b.cavity);
+                b.observed = classify(
+                    b.h_b_m,
+                    b.height_b_m,
+                    b.overturn_reach_m,
+                    b.overturn_top_m,
+                    b.cavity,
+                );
                 events.push(format!(
-                    "breaker at t = {:.2} s classified {}: jet reach {:.3} m, air cavity {}, front steeper than 60°: {}",
+                    "breaker at t = {:.2} s classified {}: jet reach {:.3} m, its top {:.3} m above the trough, air cavity {}, front steeper than 60°: {}",
                     b.t_b_s,
                     b.observed.name(),
                     b.overturn_reach_m,
+                    b.overturn_top_m,
                     if b.cavity { "yes" } else { "no" },
                     if b.steep_face { "yes" } else { "no" },
                 ));
                 self.breakers.push(b);
                 self.watch = None;
             }
-            return events;
-        }
-        if t < s.gate_s {
-            return events;
-        }
-        // A new onset must belong to a new wave: not the bore of the last breaker.
-        if let Some(last) = self.breakers.last()
-            && t - last.t_b_s < 0.75 * s.period_s
-        {
-            return events;
         }
 
-        // Crests: local maxima of the top surface at least H/4 above still water.
-        let mut onset: Option<(f64, &'static str, f64)> = None;
+        // The most seaward breaking crest of this frame: a local maximum of the top surface at
+        // least H/4 above still water with a fold, a steep face or a fast crest by it.
+        let mut onset: Option<(f64, &'static str, f64, f64)> = None;
         let mut k = k_min + 1;
         while k < k_max && onset.is_none() {
             let (Some(y), Some(yl), Some(yr)) =
@@ -413,23 +532,25 @@ impl BreakingDetector {
                 k += 1;
                 continue;
             }
-            let depth = s.level_m - sim.case.bed_y_at(x);
-            let reach_near = runs
+            let depth = depth_at(x);
+            // The crest's own front: its folds up to 3 H ahead (where a jet lands), its face up
+            // to 2 H ahead.
+            let (reach_near, top_near) = runs
                 .iter()
-                .filter(|(a, b)| {
-                    *b >= x - 2.0 * s.h
-                        && *a <= x + 0.5 * s.period_s * (s.g * depth.max(s.h)).sqrt()
-                })
-                .map(|(a, b)| b - a)
-                .fold(0.0, f64::max);
-            let steep_near = (k..(k + span(0.25 * s.period_s * (s.g * depth.max(s.h)).sqrt())))
+                .filter(|(a, b, _)| *b >= x - 2.0 * s.h && *a <= x + 3.0 * s.height_m)
+                .map(|(a, b, top)| (b - a, *top))
+                .fold(
+                    (0.0, f64::NEG_INFINITY),
+                    |m, r| if r.0 > m.0 { r } else { m },
+                );
+            let steep_near = (k..(k + span(2.0 * s.height_m)))
                 .take_while(|&j| j + face_span <= k_max)
                 .any(steep);
             // A fold over 2h or more: one particle above the surface is not a jet.
             if reach_near >= 2.0 * s.h {
-                onset = Some((x, "overturning", reach_near));
+                onset = Some((x, "overturning", reach_near, top_near));
             } else if steep_near {
-                onset = Some((x, "steep_face", 0.0));
+                onset = Some((x, "steep_face", 0.0, 0.0));
             } else if depth >= 0.5 * s.height_m {
                 // Kinematic: the fastest fluid particle of the crest against the crest's speed,
                 // linear celerity at the local depth with the finite-amplitude factor.
@@ -445,15 +566,26 @@ impl BreakingDetector {
                     .map(|i| p.velocity[i].x)
                     .fold(f64::NEG_INFINITY, f64::max);
                 if u >= 0.85 * c {
-                    onset = Some((x, "kinematic", 0.0));
+                    onset = Some((x, "kinematic", 0.0, 0.0));
                 }
             }
             k += 1;
         }
-        let Some((x_b, trigger, reach_b)) = onset else {
+        // A new wave's onset lies a quarter of its wavelength or more seaward of the last
+        // frame's breaking crest.
+        let jump = onset.map_or(0.0, |(x, _, _, _)| {
+            0.25 * s.period_s * (s.g * (depth_at(x).max(s.h) + s.height_m)).sqrt()
+        });
+        let new = self
+            .tracker
+            .offer(t, onset.map(|o| o.0), jump, 0.5 * s.period_s);
+        if !new || t < s.gate_s || self.watch.is_some() {
+            return events;
+        }
+        let Some((x_b, trigger, reach_b, top_b)) = onset else {
             return events;
         };
-        let depth = (s.level_m - sim.case.bed_y_at(x_b)).max(0.0);
+        let depth = depth_at(x_b).max(0.0);
         let k_b = profile.index(x_b);
         let wavelength = s.period_s * (s.g * depth.max(s.h)).sqrt();
         let k_back = profile.index(x_b - 0.5 * wavelength).max(k_min);
@@ -473,8 +605,16 @@ impl BreakingDetector {
             } else {
                 0.0
             },
+            overturn_top_m: if trigger == "overturning" {
+                top_b - trough
+            } else {
+                0.0
+            },
             cavity: false,
             steep_face: trigger == "steep_face",
+            fold_x_m: (trigger == "overturning").then_some(x_b),
+            fold_h_m: (trigger == "overturning").then_some(depth),
+            fold_t_s: (trigger == "overturning").then_some(t),
         };
         events.push(format!(
             "breaking onset ({trigger}) at t = {t:.2} s, x = {x_b:.3} m, still depth {depth:.3} m, crest height {:.3} m",
@@ -483,7 +623,8 @@ impl BreakingDetector {
         self.watch = Some(Watch {
             breaker,
             until_s: t + 0.5 * s.period_s,
-            cavities_at_onset: profile.cavities.len(),
+            crest_x_m: x_b,
+            trough_m: trough,
         });
         events
     }
@@ -523,14 +664,17 @@ impl BreakingDetector {
             (!self.breakers.is_empty())
                 .then(|| self.breakers.iter().map(f).sum::<f64>() / self.breakers.len() as f64)
         };
-        let x_b = pick(|b| b.x_b_m);
+        let x_b = pick(|b| b.fold_x_m.unwrap_or(b.x_b_m));
+        let x_onset = pick(|b| b.x_b_m);
         Some(BreakingSummary {
             iribarren: self.iribarren,
             predicted: self.predicted.map_or("none", BreakerType::name),
             observed,
             x_b_m: x_b,
             x_b_data_frame_m: x_b.map(|x| x - x_origin_m),
-            h_b_m: pick(|b| b.h_b_m),
+            h_b_m: pick(|b| b.fold_h_m.unwrap_or(b.h_b_m)),
+            x_onset_m: x_onset,
+            x_onset_data_frame_m: x_onset.map(|x| x - x_origin_m),
             height_b_m: pick(|b| b.height_b_m),
             t_b_s: used.first().map(|b| b.t_b_s),
             basis,
@@ -542,5 +686,66 @@ impl BreakingDetector {
             run_up_m: self.run_up_m,
             breakers: self.breakers.clone(),
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_new_wave_breaks_seaward_of_the_bores_and_a_flicker_is_not_a_new_wave() {
+        let mut tracker = OnsetTracker::default();
+        let (jump, gap) = (0.5, 1.0);
+        // The first breaking crest is an onset; the bore it becomes is not.
+        assert!(tracker.offer(10.0, Some(6.0), jump, gap));
+        for k in 1..25 {
+            let t = 10.0 + 0.04 * k as f64;
+            assert!(!tracker.offer(t, Some(6.0 + 1.3 * 0.04 * k as f64), jump, gap));
+        }
+        // Frames where nothing breaks change nothing.
+        assert!(!tracker.offer(11.0, None, jump, gap));
+        // The next wave breaks 2.6 m seaward of the bore, 2 s later: a new onset.
+        assert!(tracker.offer(12.0, Some(6.05), jump, gap));
+        // Its criterion flickers: the older bore is the most seaward for one frame, then the
+        // same wave again, a little shoreward of its onset, within the gap: not a new onset.
+        assert!(!tracker.offer(12.04, Some(8.7), jump, gap));
+        assert!(!tracker.offer(12.08, Some(6.15), jump, gap));
+        // A crest that moves back by less than the jump is the same wave, after the gap too.
+        for k in 1..=35 {
+            let t = 12.08 + 0.04 * k as f64;
+            assert!(!tracker.offer(t, Some(6.15 + 0.02 * k as f64), jump, gap));
+        }
+        assert!(!tracker.offer(13.52, Some(6.6), jump, gap));
+        // On a steep beach: nothing breaks for longer than half the gap, then the next wave
+        // breaks where the last one did: a new onset.
+        assert!(!tracker.offer(13.9, None, jump, gap));
+        assert!(tracker.offer(14.1, Some(6.1), jump, gap));
+    }
+
+    #[test]
+    fn the_followed_crest_is_the_next_one_shoreward() {
+        // Two crests 0.02 m high, at x = 1.0 and 3.0 m, on a level of 0.
+        let dx = 0.01;
+        let crossings = (0..=400)
+            .map(|k| {
+                let x = k as f64 * dx;
+                let y = 0.02 * (-((x - 1.0) / 0.2).powi(2)).exp()
+                    + 0.02 * (-((x - 3.0) / 0.2).powi(2)).exp();
+                vec![(y, 0.0)]
+            })
+            .collect();
+        let profile = SurfaceProfile {
+            dx_m: dx,
+            crossings,
+            cavities: Vec::new(),
+        };
+        let crest = |from: f64| follow_crest(&profile, from, 0.04, 0.01, 0, 400);
+        // From just shoreward of a crest, it is found within the allowed step back.
+        assert!((crest(1.02).unwrap() - 1.0).abs() < 1e-9);
+        // From further shoreward, the next crest is taken.
+        assert!((crest(1.2).unwrap() - 3.0).abs() < 1e-9);
+        // Nothing high enough shoreward of the last crest.
+        assert_eq!(crest(3.3), None);
     }
 }

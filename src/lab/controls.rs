@@ -38,6 +38,9 @@ pub fn presets_in(dir: &Path) -> Vec<Preset> {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Controls {
     pub height_m: Option<f64>,
+    /// The preset's paddle height over its H (its calibration, `wavemaker.paddle_height_m`;
+    /// 1 without one): a new H drives the paddle for H times this.
+    pub paddle_ratio: f64,
     pub period_s: Option<f64>,
     pub paddle: Option<PaddleType>,
     pub theory: Option<WaveTheory>,
@@ -52,6 +55,7 @@ impl Controls {
         let w = case.wavemaker.as_ref();
         Controls {
             height_m: w.map(|w| w.height_m),
+            paddle_ratio: w.map_or(1.0, |w| w.paddle_height() / w.height_m),
             period_s: w.map(|w| w.period_s),
             paddle: w.map(|w| w.paddle),
             theory: w.map(|w| w.theory),
@@ -69,6 +73,12 @@ impl Controls {
         ];
         if let Some(v) = self.height_m {
             o.push(format!("wavemaker.height_m={v}"));
+            if self.paddle_ratio != 1.0 {
+                o.push(format!(
+                    "wavemaker.paddle_height_m={}",
+                    v * self.paddle_ratio
+                ));
+            }
         }
         if let Some(v) = self.period_s {
             o.push(format!("wavemaker.period_s={v}"));

@@ -22,6 +22,11 @@ pub struct GaugeWave {
     /// Mean zero-up-crossing height, m (null with fewer than one whole wave).
     #[serde(rename = "H_m")]
     pub height_m: Option<f64>,
+    /// Mean over the periods of the range of η in each (`diagnostics::period_height_m`), m:
+    /// the height to compare with a long cnoidal wave's H, whose trough ripples the
+    /// zero-up-crossing count takes for waves.
+    #[serde(rename = "H_period_m")]
+    pub period_height_m: Option<f64>,
     /// Time-mean elevation over the wet samples, m above still water.
     pub mean_level_m: Option<f64>,
     /// Fraction of the samples at which the gauge was wet.
@@ -163,6 +168,13 @@ impl SurfRecorder {
                     x_m: x,
                     x_data_frame_m: x - origin,
                     height_m: stats.map(|s| s.mean_height_m),
+                    period_height_m: crate::diagnostics::period_height_m(
+                        &t,
+                        &eta,
+                        from_s,
+                        period,
+                        periods as usize,
+                    ),
                     mean_level_m: (!wet.is_empty())
                         .then(|| wet.iter().sum::<f64>() / wet.len() as f64),
                     wet_fraction: wet.len() as f64 / eta.len().max(1) as f64,
@@ -306,7 +318,7 @@ pub fn log_profiles(rrd: &RrdLogger, surf: &SurfSummary) {
 /// Writes `profiles.csv`: long format, one value per row, `quantity,x_m,z_m,value`; z_m is
 /// empty for quantities that depend on x only. Quantities: `u_mean_m_s` and `wet_fraction` per
 /// station and height, `trough_m`, `crest_m`, `mean_level_m`, `flux_below_trough_m2_s`,
-/// `flux_above_trough_m2_s` per station, `H_m`, `gauge_mean_level_m` per gauge.
+/// `flux_above_trough_m2_s` per station, `H_m`, `H_period_m`, `gauge_mean_level_m` per gauge.
 pub fn write_profiles(path: &Path, surf: &SurfSummary) -> std::io::Result<()> {
     let mut f = std::io::BufWriter::new(std::fs::File::create(path)?);
     writeln!(
@@ -345,6 +357,12 @@ pub fn write_profiles(path: &Path, surf: &SurfSummary) -> std::io::Result<()> {
             "H_m,{:.3},,{}",
             g.x_m,
             num(g.height_m.unwrap_or(f64::NAN))
+        )?;
+        writeln!(
+            f,
+            "H_period_m,{:.3},,{}",
+            g.x_m,
+            num(g.period_height_m.unwrap_or(f64::NAN))
         )?;
         writeln!(
             f,
