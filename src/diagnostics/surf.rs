@@ -303,8 +303,8 @@ pub struct BreakingSummary {
     pub observed: &'static str,
     /// The breaking point (flume x) and its still depth: where each breaker's front first
     /// folded over ([`Breaker::fold_x_m`]; the onset's point for one that never folded), the
-    /// visible start of breaking by which the reference data place it (air entrained at a
-    /// spilling crest, the face of a plunging one past vertical). With `basis` = "steady": the
+    /// visible start of breaking where experiments usually put the break point (a spilling
+    /// crest drawing in air, a plunging face past vertical). With `basis` = "steady": the
     /// medians over the steady breakers (after `steady_from_s`, at least 0.75 H high); with
     /// "first": the first breaker's (no steady breaker); null when none broke.
     pub x_b_m: Option<f64>,
