@@ -33,6 +33,14 @@ impl SurfaceProfile {
         self.crossings[k].first().map(|c| c.0)
     }
 
+    /// Height of the top at sample `k` when it is a crest: at least its left neighbour's and
+    /// above its right one's (`None` otherwise, at the ends, or where no water stands).
+    pub fn crest(&self, k: usize) -> Option<f64> {
+        let top = |j: usize| self.crossings.get(j)?.first().map(|c| c.0);
+        let (y, left, right) = (top(k)?, top(k.checked_sub(1)?)?, top(k + 1)?);
+        (y >= left && y > right).then_some(y)
+    }
+
     /// The sample nearest to `x_m`.
     pub fn index(&self, x_m: f64) -> usize {
         ((x_m / self.dx_m).round().max(0.0) as usize).min(self.crossings.len().saturating_sub(1))
@@ -272,8 +280,10 @@ pub fn follow_crest(
 ) -> Option<f64> {
     let k0 = profile.index(from_x_m - back_m).max(k_min + 1);
     (k0..k_max).find_map(|k| {
-        let (y, yl, yr) = (profile.top(k)?, profile.top(k - 1)?, profile.top(k + 1)?);
-        (y >= yl && y > yr && y >= min_y).then(|| profile.x_m(k))
+        profile
+            .crest(k)
+            .filter(|y| *y >= min_y)
+            .map(|_| profile.x_m(k))
     })
 }
 
@@ -520,18 +530,15 @@ impl BreakingDetector {
         let mut onset: Option<(f64, &'static str, f64, f64)> = None;
         let mut k = k_min + 1;
         while k < k_max && onset.is_none() {
-            let (Some(y), Some(yl), Some(yr)) =
-                (profile.top(k), profile.top(k - 1), profile.top(k + 1))
+            let Some(y) = profile
+                .crest(k)
+                .filter(|y| y - s.level_m >= 0.25 * s.height_m)
             else {
                 k += 1;
                 continue;
             };
             let x = profile.x_m(k);
             let crest_above = y - s.level_m;
-            if !(y >= yl && y > yr && crest_above >= 0.25 * s.height_m) {
-                k += 1;
-                continue;
-            }
             let depth = depth_at(x);
             // The crest's own front: its folds up to 3 H ahead (where a jet lands), its face up
             // to 2 H ahead.
