@@ -135,9 +135,42 @@ impl Simulation {
         }
     }
 
+    /// Heights of every crossing of the vertical line x = `x_m` with the free surface (the
+    /// boundary edges of the kept mesh with a fluid node), m, in no order; empty when dry.
+    pub fn surface_heights_at(&self, x_m: f64) -> Vec<f64> {
+        let p = &self.particles;
+        self.solver
+            .mesh
+            .boundary_edges
+            .iter()
+            .filter(|[a, b]| p.is_fluid(*a as usize) || p.is_fluid(*b as usize))
+            .filter_map(|[a, b]| {
+                let (pa, pb) = (p.position[*a as usize], p.position[*b as usize]);
+                let (lo, hi) = if pa.x <= pb.x { (pa, pb) } else { (pb, pa) };
+                if x_m < lo.x || x_m > hi.x || hi.x == lo.x {
+                    return None;
+                }
+                Some(lo.y + (hi.y - lo.y) * (x_m - lo.x) / (hi.x - lo.x))
+            })
+            .collect()
+    }
+
     /// One step towards `until_s`.
     pub fn step_towards(&mut self, until_s: f64) -> Result<StepReport, StepError> {
         let dt = self.next_dt(until_s);
+        if let Some(w) = &self.wavemaker
+            && w.absorbs()
+        {
+            let x = w.probe_x_m(self.time_s, self.case.particles.spacing_m);
+            let eta = self
+                .surface_heights_at(x)
+                .into_iter()
+                .reduce(f64::max)
+                .map(|y| y - w.still_level_m());
+            if let Some(w) = &mut self.wavemaker {
+                w.absorb(self.time_s, eta);
+            }
+        }
         if let Some(w) = &self.wavemaker {
             w.prescribe(&mut self.particles, &mut self.flume, self.time_s, dt);
         }

@@ -7,6 +7,19 @@
 //! the step, and after the step the node is put exactly on the path, so no error accumulates. The
 //! face, extended without limit, also guards the fluid: no particle crosses it, and no triangle
 //! behind it is kept.
+//!
+//! A piston may also absorb the long waves that reach it (`wavemaker.absorb_long_waves`): the
+//! seiche and the set-down a beach sends back, which a rigid paddle would reflect into the
+//! flume for ever. Shallow-water active absorption (Schäffer & Klopman 2000, in its long-wave
+//! limit): at the face (read one depth in front of it) η = 2 η_R + (h/c) U_a, with η_R the
+//! long wave arriving, U_a the paddle's absorbing velocity and c = √(g h); the paddle cancels
+//! the re-reflection by moving with U_a = −(c/h) η_R. Only the mean over the last wave period
+//! is used, so the waves the paddle makes are left to their theory and only the long motion
+//! is absorbed. The paddle's own absorbing motion is taken out of what is read, so with a face
+//! that answers as the model says there is no feedback at all; one that answers g times the
+//! model closes a loop of gain (g − 1)/2 times the one-period mean, stable for 0 < g < 3.
+
+use std::collections::VecDeque;
 
 use crate::case::Case;
 use crate::geometry::{Flume, PaddleFace};
@@ -33,6 +46,95 @@ pub struct Wavemaker {
     /// [`Wavemaker::retune`]).
     hold_m: f64,
     start_s: f64,
+    /// The long-wave absorber, when the case asks for it.
+    absorber: Option<LongWaveAbsorber>,
+}
+
+/// The long-wave absorber's state (see the module comment).
+#[derive(Debug, Clone)]
+pub struct LongWaveAbsorber {
+    /// Averaging window: one wave period, s.
+    window_s: f64,
+    /// √(g h), m/s, and the still depth h at the paddle, m.
+    celerity_m_s: f64,
+    depth_m: f64,
+    /// (time, η − (h/c) U_a) at the face, m, over the last window.
+    samples: VecDeque<(f64, f64)>,
+    /// Displacement made by absorbing, at `at_s`, m; the velocity it moves with until the
+    /// next step ends, m/s.
+    offset_m: f64,
+    at_s: f64,
+    velocity_m_s: f64,
+}
+
+impl LongWaveAbsorber {
+    pub fn new(window_s: f64, depth_m: f64, gravity_m_s2: f64) -> Self {
+        Self {
+            window_s,
+            celerity_m_s: (gravity_m_s2 * depth_m).sqrt(),
+            depth_m,
+            samples: VecDeque::new(),
+            offset_m: 0.0,
+            at_s: 0.0,
+            velocity_m_s: 0.0,
+        }
+    }
+
+    /// Displacement from absorbing at `t_s` (≥ the last commit), m.
+    pub fn offset_at(&self, t_s: f64) -> f64 {
+        self.offset_m + self.velocity_m_s * (t_s - self.at_s)
+    }
+
+    /// The absorbing velocity for the step starting at `t_s`, m/s, given η at the face then
+    /// (m above still water; `None` when no surface was found: the last velocity is kept).
+    pub fn update(&mut self, t_s: f64, eta_m: Option<f64>) -> f64 {
+        self.offset_m = self.offset_at(t_s);
+        self.at_s = t_s;
+        let Some(eta) = eta_m else {
+            return self.velocity_m_s;
+        };
+        let ratio = self.depth_m / self.celerity_m_s;
+        self.samples
+            .push_back((t_s, eta - ratio * self.velocity_m_s));
+        while self
+            .samples
+            .get(1)
+            .is_some_and(|(t, _)| *t <= t_s - self.window_s)
+        {
+            self.samples.pop_front();
+        }
+        // Trapezoidal mean over the window; nothing is done before it is full (a part of a
+        // wave period has a mean of its own).
+        let span = t_s - self.samples[0].0;
+        if span < self.window_s - 1e-9 {
+            return self.velocity_m_s;
+        }
+        // The first interval is cut at t − window, the value interpolated there.
+        let from = t_s - self.window_s;
+        let integral: f64 = self
+            .samples
+            .iter()
+            .zip(self.samples.iter().skip(1))
+            .map(|(a, b)| {
+                let (t0, v0) = if a.0 < from {
+                    (from, a.1 + (b.1 - a.1) * (from - a.0) / (b.0 - a.0))
+                } else {
+                    *a
+                };
+                0.5 * (v0 + b.1) * (b.0 - t0)
+            })
+            .sum();
+        let mean = integral / self.window_s;
+        let arriving = 0.5 * mean;
+        self.velocity_m_s = -arriving / ratio;
+        self.velocity_m_s
+    }
+
+    /// Forgets the displacement made so far (a retune has put it in the paddle's hold).
+    fn clear_offset(&mut self, t_s: f64) {
+        self.offset_m = 0.0;
+        self.at_s = t_s;
+    }
 }
 
 impl Wavemaker {
@@ -62,6 +164,13 @@ impl Wavemaker {
             length_m,
             hold_m: 0.0,
             start_s: 0.0,
+            absorber: w.absorb_long_waves.then(|| {
+                LongWaveAbsorber::new(
+                    w.period_s,
+                    case.paddle_depth_m().unwrap_or(0.0),
+                    case.fluid.gravity_m_s2,
+                )
+            }),
         }))
     }
 
@@ -84,13 +193,48 @@ impl Wavemaker {
 
     /// Displacement of the face at the still-water level at `t_s`, m.
     pub fn displacement_m(&self, t_s: f64) -> f64 {
-        self.hold_m + self.motion.displacement_m(t_s - self.start_s)
+        let absorbed = self.absorber.as_ref().map_or(0.0, |a| a.offset_at(t_s));
+        self.hold_m + self.motion.displacement_m(t_s - self.start_s) + absorbed
+    }
+
+    /// Whether the paddle absorbs long waves (it then needs [`Wavemaker::absorb`] before
+    /// every step).
+    pub fn absorbs(&self) -> bool {
+        self.absorber.is_some()
+    }
+
+    /// Where η is read for the absorber at `t_s`: one still depth (at least two spacings) in
+    /// front of the face, past the local disturbance of the face itself (its evanescent modes,
+    /// and the contact line, whose mean stands above the water's), m. A long wave takes h/c,
+    /// under a tenth of a period, from there to the face.
+    pub fn probe_x_m(&self, t_s: f64, spacing_m: f64) -> f64 {
+        self.hinge.x + self.displacement_m(t_s) + self.depth_m.max(2.0 * spacing_m)
+    }
+
+    /// Still-water level at the paddle, m.
+    pub fn still_level_m(&self) -> f64 {
+        self.hinge.y + self.depth_m
+    }
+
+    /// Before a step from `t_s`: feeds η at the probe (m above still water) to the absorber,
+    /// which sets the paddle's absorbing velocity for the step. Returns that velocity, m/s
+    /// (0 without an absorber).
+    pub fn absorb(&mut self, t_s: f64, eta_m: Option<f64>) -> f64 {
+        self.absorber.as_mut().map_or(0.0, |a| a.update(t_s, eta_m))
+    }
+
+    /// The displacement absorbing has added so far, m.
+    pub fn absorbed_offset_m(&self, t_s: f64) -> f64 {
+        self.absorber.as_ref().map_or(0.0, |a| a.offset_at(t_s))
     }
 
     /// Switches to a new motion at `t_s` (the lab's wave controls): the paddle holds where it is
     /// and the new motion starts from there with its own ramp, so the face never jumps.
     pub fn retune(&mut self, motion: PaddleMotion, t_s: f64) {
         self.hold_m = self.displacement_m(t_s);
+        if let Some(a) = &mut self.absorber {
+            a.clear_offset(t_s);
+        }
         self.start_s = t_s;
         self.motion = motion;
     }
@@ -131,6 +275,69 @@ impl Wavemaker {
     pub fn snap(&self, particles: &mut Particles, t_s: f64) {
         for (k, &r) in self.offsets_m.iter().enumerate() {
             particles.position[self.first_node + k] = self.point(r, t_s);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::LongWaveAbsorber;
+
+    /// The face as the absorber's model sees it, with a gain error: η = 2 η_R + g (h/c) U_a
+    /// plus the paddle's own short waves, which average out over a period.
+    fn run(gain: f64, arriving_m: impl Fn(f64) -> f64, until_s: f64) -> (LongWaveAbsorber, f64) {
+        let (depth, g, period, dt) = (0.4, 9.81, 2.0, 0.01);
+        let mut a = LongWaveAbsorber::new(period, depth, g);
+        let ratio = depth / (g * depth).sqrt();
+        let mut u = 0.0;
+        let steps = (until_s / dt).round() as usize;
+        for k in 0..steps {
+            let t = k as f64 * dt;
+            let short = 0.06 * (2.0 * std::f64::consts::PI * t / period).sin();
+            let eta = 2.0 * arriving_m(t) + gain * ratio * u + short;
+            u = a.update(t, Some(eta));
+        }
+        (a, u)
+    }
+
+    #[test]
+    fn a_steady_long_wave_is_absorbed_and_short_waves_are_left_alone() {
+        let (depth, g) = (0.4_f64, 9.81_f64);
+        let c_over_h = (g * depth).sqrt() / depth;
+        // A set-down of 5 mm arriving: the paddle must move with U = −(c/h) η_R = +0.0248 m/s.
+        // With a face that answers g times the model, the loop settles at 2/(1 + g) of that,
+        // and the long wave leaving is η_R + g (h/c) U = η_R (1 − g)/(1 + g): still absorbed
+        // but for that fraction.
+        for gain in [1.0, 0.6, 1.5] {
+            let (_, u) = run(gain, |_| -0.005, 40.0);
+            let want = c_over_h * 0.005 * 2.0 / (1.0 + gain);
+            let leaving = -0.005 + gain * u / c_over_h;
+            println!(
+                "gain {gain}: U_a = {u:.5} m/s (loop theory {want:.5}), long wave leaving {:.2} mm",
+                leaving * 1e3
+            );
+            assert!((u - want).abs() < 0.02 * want, "gain {gain}: {u} vs {want}");
+            assert!(leaving.abs() <= 0.005 * ((1.0 - gain) / (1.0 + gain)).abs() + 1e-4);
+        }
+        // Short waves alone: the paddle barely moves (the mean over a period is zero).
+        let (a, u) = run(1.0, |_| 0.0, 40.0);
+        let drift = a.offset_at(40.0);
+        println!("short waves only: U_a = {u:.2e} m/s, offset {drift:.2e} m");
+        assert!(u.abs() < 1e-3 && drift.abs() < 2e-3, "{u} {drift}");
+    }
+
+    #[test]
+    fn a_seiche_is_followed_without_growing() {
+        // A 30 s seiche of 3 mm: the absorbing velocity follows −(c/h) η_R, delayed by about
+        // half the averaging window, and stays bounded even with a 50 % gain error.
+        let (depth, g) = (0.4_f64, 9.81_f64);
+        let c_over_h = (g * depth).sqrt() / depth;
+        let seiche = |t: f64| 0.003 * (2.0 * std::f64::consts::PI * t / 30.0).sin();
+        for gain in [1.0, 1.5] {
+            let (_, u) = run(gain, seiche, 120.0);
+            let want = -c_over_h * seiche(120.0 - 1.0) * 2.0 / (1.0 + gain);
+            println!("gain {gain}: U_a = {u:.5} m/s, −(c/h) η_R one second earlier {want:.5}");
+            assert!((u - want).abs() < 0.25 * c_over_h * 0.003, "{u} vs {want}");
         }
     }
 }

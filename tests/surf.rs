@@ -217,7 +217,31 @@ fn a_surf_run_writes_breaking_undertow_and_profiles() {
     for s in stations {
         assert!(s["flux_below_trough_m2_s"].is_number(), "{s}");
         assert!(s["z_m"].as_array().is_some_and(|z| !z.is_empty()));
+        // The water budget shoreward of the station: what flowed in through it (integrated
+        // step by step) is what the water there gained, less what the numerics made there.
+        // An identity of the discrete mesh but for the time integration and the ledger's
+        // strips (20 h wide, cut at their centres), so it holds to a fraction of the flux (or
+        // to 1e-4 m²/s, 1 % of the full run's onshore flux, before the waves arrive: in this
+        // short run they have barely reached the stations; the full runs' budgets are in the
+        // README).
+        let f = |k: &str| s[k].as_f64().unwrap();
+        let residual = f("net_flux_m2_s") - (f("shore_storage_m2_s") - f("shore_numerics_m2_s"));
+        let scale = f("flux_above_trough_m2_s").abs();
+        println!(
+            "station x = {:.3} m: net {:.2e}, storage {:.2e}, numerics {:.2e}, residual {:.2e} m²/s (onshore flux {:.2e})",
+            f("x_m"),
+            f("net_flux_m2_s"),
+            f("shore_storage_m2_s"),
+            f("shore_numerics_m2_s"),
+            residual,
+            scale
+        );
+        assert!(residual.abs() <= 0.25 * scale + 1e-4, "{s}");
     }
+    // The case's paddle absorbs long waves and says how far it went.
+    let moved = summary["paddle_absorbed_m"].as_f64().unwrap();
+    println!("paddle moved {moved:.4} m absorbing long waves");
+    assert!(moved.abs() < 0.1, "{moved}");
     assert_eq!(
         surf["wave_height"].as_array().unwrap().len(),
         case.output.gauges_x_m.len()

@@ -154,6 +154,10 @@ pub struct WavemakerSettings {
     /// Rest position of the paddle face (for a flap, of its hinge on the bed). The water starts
     /// in front of it; the flume behind it stays dry. It must leave room for the backward stroke.
     pub x_m: f64,
+    /// A piston absorbs the long waves that reach it (the seiche and set-down a beach sends
+    /// back; see `wavemaker.rs`), as a long flume or an absorbing lab paddle would. Default off.
+    #[serde(default)]
+    pub absorb_long_waves: bool,
 }
 
 impl WavemakerSettings {
@@ -955,6 +959,18 @@ impl Case {
                 format!("{:?} theory drives a piston, not a flap", w.theory).to_lowercase(),
             );
         }
+        if w.absorb_long_waves && w.paddle != PaddleType::Piston {
+            return err(
+                "wavemaker.absorb_long_waves",
+                "long-wave absorption is made for a piston, not a flap".to_owned(),
+            );
+        }
+        if w.absorb_long_waves && w.theory == WaveTheory::Solitary {
+            return err(
+                "wavemaker.absorb_long_waves",
+                "a solitary wave has no period to average over".to_owned(),
+            );
+        }
         if let Some(v) = w.paddle_height_m
             && !(v.is_finite() && v > 0.0)
         {
@@ -1062,6 +1078,21 @@ mod tests {
         assert_eq!(motion.excursion_m(), expected.excursion_m());
         let e = Case::load(&path, &["wavemaker.paddle_height_m=-0.1".into()]).unwrap_err();
         assert!(e.to_string().contains("wavemaker.paddle_height_m"), "{e}");
+    }
+
+    #[test]
+    fn long_wave_absorption_is_for_a_piston_with_a_period() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases");
+        let c = Case::load(&dir.join("ting_kirby_plunging.toml"), &[]).unwrap();
+        assert!(c.wavemaker.as_ref().unwrap().absorb_long_waves);
+        let on = ["wavemaker.absorb_long_waves=true".to_owned()];
+        let e = Case::load(&dir.join("flap_deep_water.toml"), &on).unwrap_err();
+        assert!(
+            e.to_string().contains("wavemaker.absorb_long_waves") && e.to_string().contains("flap"),
+            "{e}"
+        );
+        let e = Case::load(&dir.join("solitary.toml"), &on).unwrap_err();
+        assert!(e.to_string().contains("wavemaker.absorb_long_waves"), "{e}");
     }
 
     #[test]

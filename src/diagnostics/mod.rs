@@ -119,22 +119,11 @@ pub fn surface_elevation(sim: &Simulation, x_m: f64) -> Option<f64> {
 /// kept mesh that are not wall–wall edges), m above the still-water level there, highest first.
 /// More than one crossing means an overturned face, a jet or a drop above the gauge.
 pub fn surface_crossings(sim: &Simulation, x_m: f64) -> Vec<f64> {
-    let p = &sim.particles;
     let level = sim.case.still_level_at(x_m).unwrap_or(0.0);
     let mut out: Vec<f64> = sim
-        .solver
-        .mesh
-        .boundary_edges
-        .iter()
-        .filter(|[a, b]| p.is_fluid(*a as usize) || p.is_fluid(*b as usize))
-        .filter_map(|[a, b]| {
-            let (pa, pb) = (p.position[*a as usize], p.position[*b as usize]);
-            let (lo, hi) = if pa.x <= pb.x { (pa, pb) } else { (pb, pa) };
-            if x_m < lo.x || x_m > hi.x || hi.x == lo.x {
-                return None;
-            }
-            Some(lo.y + (hi.y - lo.y) * (x_m - lo.x) / (hi.x - lo.x) - level)
-        })
+        .surface_heights_at(x_m)
+        .into_iter()
+        .map(|y| y - level)
         .collect();
     out.sort_by(|a, b| b.total_cmp(a));
     out.dedup_by(|a, b| (*a - *b).abs() < 1e-12);

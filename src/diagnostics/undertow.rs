@@ -1,12 +1,15 @@
 //! Undertow stations: the horizontal flow through vertical sections of the flume, integrated
 //! exactly over the linear triangles, binned in height, then averaged over whole wave periods.
 //!
-//! At each output time and station, every kept triangle that straddles the station's x cuts
+//! After every step of a run (or, fed only at the output times, at each of those) and at each
+//! station, every kept triangle that straddles the station's x cuts
 //! the vertical line in a segment along which u is linear; its integral ∫u dy is split among
 //! fixed height bins. Averaging the binned integrals over whole periods gives the Eulerian mean
 //! flux density (dry time counts as zero flow), and dividing by the wet time gives the mean
 //! velocity ū(z) of the water that was there. The flux below the mean trough level is the
-//! undertow; above it the waves carry water onshore; in a closed flume the two cancel.
+//! undertow; above it the waves carry water onshore; in a closed flume the two cancel when
+//! the water shoreward of the station neither grows nor drains, which the station's budget
+//! (the mesh's area shoreward of it, and the volume ledger's share of it) checks.
 
 use crate::simulation::Simulation;
 
@@ -23,12 +26,19 @@ struct Station {
 #[derive(Debug, Clone)]
 struct Sample {
     t_s: f64,
+    /// The time the fluxes are averaged over, ending at `t_s` (0: the flow at `t_s`).
+    span_s: f64,
     /// Per station: surface elevation above still water (`None` when dry).
     eta_m: Vec<Option<f64>>,
     /// Per station and bin: ∫u dy over the wet part of the bin, m²/s.
     flux: Vec<Vec<f32>>,
     /// Per station and bin: wet height of the bin, m.
     wet: Vec<Vec<f32>>,
+    /// Per station: the mesh's water area shoreward of it, m².
+    shore_area_m2: Vec<f64>,
+    /// Per station: the volume ledger's balance (area the numerics made, net of what the
+    /// relaxation paid back) in the strips shoreward of it, m².
+    shore_ledger_m2: Vec<f64>,
 }
 
 /// Records the stations of a case at every output time.
@@ -38,6 +48,11 @@ pub struct Stations {
     dz_m: f64,
     level_m: Vec<f64>,
     samples: Vec<Sample>,
+    /// Per station and bin: ∫∫u dy dt and ∫(wet height) dt since the last sample, and the time
+    /// they span (see [`Stations::accumulate`]).
+    flux_dt: Vec<Vec<f64>>,
+    wet_dt: Vec<Vec<f64>>,
+    span_s: f64,
 }
 
 /// The averages at one station.
@@ -62,6 +77,12 @@ pub struct StationSummary {
     pub net_over_onshore: f64,
     /// Mean ū over the water below the trough, m/s (negative: offshore).
     pub undertow_mean_m_s: f64,
+    /// The water budget shoreward of the station over the same window, m²/s: the growth rate
+    /// of the mesh's water area there (mean over the last period minus the first, over the
+    /// time between them), and the part of it the numerics made (the volume ledger's growth
+    /// there). In a closed flume net flux = storage − numerics.
+    pub shore_storage_m2_s: f64,
+    pub shore_numerics_m2_s: f64,
     /// Bin centres, m above still water, with ū (mean over wet time, m/s; NaN when never
     /// wet) and the wet fraction of the time.
     pub z_m: Vec<f64>,
@@ -91,7 +112,7 @@ impl Stations {
         };
         let height = case.wavemaker.as_ref().map_or(0.0, |w| w.height_m);
         let mut level_m = Vec::new();
-        let stations = case
+        let stations: Vec<Station> = case
             .surf
             .stations_x_m
             .iter()
@@ -108,6 +129,9 @@ impl Stations {
             })
             .collect();
         Self {
+            flux_dt: stations.iter().map(|s| vec![0.0; s.bins]).collect(),
+            wet_dt: stations.iter().map(|s| vec![0.0; s.bins]).collect(),
+            span_s: 0.0,
             stations,
             dz_m: dz,
             level_m,
@@ -127,24 +151,108 @@ impl Stations {
         let p = &sim.particles;
         let mut sample = Sample {
             t_s: sim.time_s,
+            span_s: self.span_s,
             eta_m: Vec::with_capacity(self.stations.len()),
             flux: Vec::with_capacity(self.stations.len()),
             wet: Vec::with_capacity(self.stations.len()),
+            shore_area_m2: Vec::with_capacity(self.stations.len()),
+            shore_ledger_m2: Vec::with_capacity(self.stations.len()),
         };
-        for s in &self.stations {
-            let mut flux = vec![0f32; s.bins];
-            let mut wet = vec![0f32; s.bins];
-            for t in &sim.solver.mesh.triangles {
-                let Some(((y0, u0), (y1, u1))) = section(t, &p.position, &p.velocity, s.x_m) else {
-                    continue;
-                };
-                add_segment(s, self.dz_m, y0, u0, y1, u1, &mut flux, &mut wet);
-            }
+        let ledger = sim.solver.area_ledger_m2();
+        let strip_m = sim.solver.area_ledger_strip_m();
+        // Without steps fed since the last sample, the flow at this instant.
+        let now = (self.span_s <= 0.0).then(|| self.sections(sim));
+        for (j, s) in self.stations.iter().enumerate() {
+            // The time mean since the last sample when the caller fed every step.
+            let (flux, wet): (Vec<f32>, Vec<f32>) = if let Some(now) = &now {
+                let (flux_now, wet_now) = &now[j];
+                (
+                    flux_now.iter().map(|&v| v as f32).collect(),
+                    wet_now.iter().map(|&v| v as f32).collect(),
+                )
+            } else {
+                (
+                    self.flux_dt[j]
+                        .iter()
+                        .map(|v| (v / self.span_s) as f32)
+                        .collect(),
+                    self.wet_dt[j]
+                        .iter()
+                        .map(|v| (v / self.span_s) as f32)
+                        .collect(),
+                )
+            };
+            let shore: f64 = sim
+                .solver
+                .mesh
+                .triangles
+                .iter()
+                .map(|t| {
+                    let q = t.map(|i| p.position[i as usize]);
+                    crate::fem::triangle_area(&p.position, t)
+                        - crate::solver::relax::area_left_of(q, s.x_m)
+                })
+                .sum();
+            sample.shore_area_m2.push(shore);
+            sample.shore_ledger_m2.push(if strip_m > 0.0 {
+                ledger
+                    .iter()
+                    .enumerate()
+                    .filter(|(b, _)| (*b as f64 + 0.5) * strip_m >= s.x_m)
+                    .map(|(_, e)| e)
+                    .sum()
+            } else {
+                0.0
+            });
             sample.eta_m.push(super::surface_elevation(sim, s.x_m));
             sample.flux.push(flux);
             sample.wet.push(wet);
         }
         self.samples.push(sample);
+        for v in self.flux_dt.iter_mut().chain(self.wet_dt.iter_mut()) {
+            v.fill(0.0);
+        }
+        self.span_s = 0.0;
+    }
+
+    /// After a step of `dt_s`: adds the flow through every station, times `dt_s`, to the
+    /// integrals the next sample averages. A run that calls this every step gets fluxes
+    /// integrated over time step by step; without it each sample is the flow at its instant,
+    /// and a wave whose period is a whole number of output intervals is always seen at the
+    /// same phases.
+    pub fn accumulate(&mut self, sim: &Simulation, dt_s: f64) {
+        if self.stations.is_empty() {
+            return;
+        }
+        for (j, (flux, wet)) in self.sections(sim).into_iter().enumerate() {
+            for (acc, v) in self.flux_dt[j].iter_mut().zip(flux) {
+                *acc += v * dt_s;
+            }
+            for (acc, v) in self.wet_dt[j].iter_mut().zip(wet) {
+                *acc += v * dt_s;
+            }
+        }
+        self.span_s += dt_s;
+    }
+
+    /// Per station: ∫u dy and the wet height in each bin now.
+    fn sections(&self, sim: &Simulation) -> Vec<(Vec<f64>, Vec<f64>)> {
+        let p = &sim.particles;
+        self.stations
+            .iter()
+            .map(|s| {
+                let mut flux = vec![0.0; s.bins];
+                let mut wet = vec![0.0; s.bins];
+                for t in &sim.solver.mesh.triangles {
+                    let Some(((y0, u0), (y1, u1))) = section(t, &p.position, &p.velocity, s.x_m)
+                    else {
+                        continue;
+                    };
+                    add_segment(s, self.dz_m, y0, u0, y1, u1, &mut flux, &mut wet);
+                }
+                (flux, wet)
+            })
+            .collect()
     }
 
     /// Averages over whole periods of `period_s` from `from_s` to the last sample;
@@ -159,11 +267,15 @@ impl Stations {
             return None;
         }
         let to_s = from_s + periods * period_s;
-        // Equal output intervals: the samples of [from, to) weigh the same.
+        // Equal output intervals: the samples of [from, to) weigh the same (a sample averaged
+        // over a span counts where its span starts).
         let used: Vec<&Sample> = self
             .samples
             .iter()
-            .filter(|s| s.t_s >= from_s - 1e-9 && s.t_s < to_s - 1e-9)
+            .filter(|s| {
+                let start = s.t_s - s.span_s;
+                start >= from_s - 1e-9 && start < to_s - 1e-9
+            })
             .collect();
         let n = used.len() as f64;
         let stations = self
@@ -209,6 +321,26 @@ impl Stations {
                     wet_fraction.push(w / (n * self.dz_m));
                 }
                 let above = total - below;
+                let period_mean = |k: usize, f: &dyn Fn(&Sample) -> f64| {
+                    let a = from_s + k as f64 * period_s;
+                    let v: Vec<f64> = used
+                        .iter()
+                        .filter(|s| s.t_s >= a - 1e-9 && s.t_s < a + period_s - 1e-9)
+                        .map(|s| f(s))
+                        .collect();
+                    mean(&v)
+                };
+                let last_k = periods as usize - 1;
+                let span = (last_k as f64 * period_s).max(1e-300);
+                let rate = |f: &dyn Fn(&Sample) -> f64| {
+                    if last_k == 0 {
+                        0.0
+                    } else {
+                        (period_mean(last_k, f) - period_mean(0, f)) / span
+                    }
+                };
+                let storage = rate(&|s: &Sample| s.shore_area_m2[j]);
+                let numerics = rate(&|s: &Sample| s.shore_ledger_m2[j]);
                 StationSummary {
                     x_m: st.x_m,
                     x_data_frame_m: st.x_m - x_origin_m,
@@ -221,6 +353,8 @@ impl Stations {
                     net_flux_m2_s: total,
                     net_over_onshore: total.abs() / above.abs().max(1e-300),
                     undertow_mean_m_s: below_u / below_wet.max(1e-300),
+                    shore_storage_m2_s: storage,
+                    shore_numerics_m2_s: numerics,
                     z_m: z,
                     u_mean_m_s: u,
                     wet_fraction,
@@ -283,8 +417,8 @@ fn add_segment(
     u0: f64,
     y1: f64,
     u1: f64,
-    flux: &mut [f32],
-    wet: &mut [f32],
+    flux: &mut [f64],
+    wet: &mut [f64],
 ) {
     if y1 <= y0 {
         return;
@@ -300,8 +434,8 @@ fn add_segment(
         if hi > lo {
             let mid = 0.5 * (lo + hi);
             let u = u0 + (u1 - u0) * (mid - y0) / (y1 - y0);
-            flux[b] += (u * (hi - lo)) as f32;
-            wet[b] += (hi - lo) as f32;
+            flux[b] += u * (hi - lo);
+            wet[b] += hi - lo;
         }
         b += 1;
     }
@@ -331,11 +465,11 @@ mod tests {
             bottom_m: 0.0,
             bins: 10,
         };
-        let (mut flux, mut wet) = (vec![0f32; 10], vec![0f32; 10]);
+        let (mut flux, mut wet) = (vec![0.0; 10], vec![0.0; 10]);
         add_segment(&s, 0.1, y0, u0, y1, u1, &mut flux, &mut wet);
         // ∫₀^0.75 2y dy = 0.5625; wet height 0.75.
-        let total: f64 = flux.iter().map(|&f| f as f64).sum();
-        let height: f64 = wet.iter().map(|&w| w as f64).sum();
+        let total: f64 = flux.iter().sum();
+        let height: f64 = wet.iter().sum();
         assert!((total - 0.5625).abs() < 1e-6, "{total}");
         assert!((height - 0.75).abs() < 1e-6, "{height}");
         assert!(section(&[0, 1, 2], &position, &velocity, 1.5).is_none());

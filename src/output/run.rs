@@ -105,44 +105,47 @@ pub fn run(case: &Case, opts: &RunOptions) -> Result<RunOutcome, RunError> {
     let started = Instant::now();
 
     let mut surf = SurfRecorder::new(&sim);
-    let mut record =
-        |sim: &Simulation, last: Option<&StageTimings>, last_dt: f64| -> Result<(), RunError> {
-            let t0 = Instant::now();
-            let m = diagnostics::integrals(sim);
-            let events = surf.record(sim, m.volume_m2);
-            csv.row(&m, sim.initial_volume_m2, sim.steps, last_dt)
-                .map_err(io_err(&csv_path))?;
-            let values = gauge_values(sim);
-            if let Some(g) = gauge_csv.as_mut() {
-                g.row(sim.time_s, &values).map_err(io_err(&gauge_path))?;
-            }
-            if let Some(rrd) = rrd.as_mut() {
-                for e in &events {
-                    rrd.log_text(sim.time_s, "events/breaking", e)
-                        .map_err(|e| RunError::Rrd {
-                            path: rrd_path.clone(),
-                            message: e.to_string(),
-                        })?;
-                }
-                let gauges: Vec<(&str, Option<f64>)> = gauge_columns
-                    .iter()
-                    .map(String::as_str)
-                    .zip(values.iter().copied())
-                    .collect();
-                log_frame(rrd, sim, &m, last, &gauges, case.output.mesh).map_err(|message| {
-                    RunError::Rrd {
+    let mut record = |sim: &Simulation,
+                      surf: &mut SurfRecorder,
+                      last: Option<&StageTimings>,
+                      last_dt: f64|
+     -> Result<(), RunError> {
+        let t0 = Instant::now();
+        let m = diagnostics::integrals(sim);
+        let events = surf.record(sim, m.volume_m2);
+        csv.row(&m, sim.initial_volume_m2, sim.steps, last_dt)
+            .map_err(io_err(&csv_path))?;
+        let values = gauge_values(sim);
+        if let Some(g) = gauge_csv.as_mut() {
+            g.row(sim.time_s, &values).map_err(io_err(&gauge_path))?;
+        }
+        if let Some(rrd) = rrd.as_mut() {
+            for e in &events {
+                rrd.log_text(sim.time_s, "events/breaking", e)
+                    .map_err(|e| RunError::Rrd {
                         path: rrd_path.clone(),
-                        message,
-                    }
-                })?;
+                        message: e.to_string(),
+                    })?;
             }
-            gauge_records.push((sim.time_s, values));
-            series.push(m);
-            logging_ms.push(t0.elapsed().as_secs_f64() * 1e3);
-            Ok(())
-        };
+            let gauges: Vec<(&str, Option<f64>)> = gauge_columns
+                .iter()
+                .map(String::as_str)
+                .zip(values.iter().copied())
+                .collect();
+            log_frame(rrd, sim, &m, last, &gauges, case.output.mesh).map_err(|message| {
+                RunError::Rrd {
+                    path: rrd_path.clone(),
+                    message,
+                }
+            })?;
+        }
+        gauge_records.push((sim.time_s, values));
+        series.push(m);
+        logging_ms.push(t0.elapsed().as_secs_f64() * 1e3);
+        Ok(())
+    };
 
-    record(&sim, None, 0.0)?;
+    record(&sim, &mut surf, None, 0.0)?;
     let mut status = "ok".to_owned();
     let mut k = 1u64;
     while sim.time_s < end_s - 1e-12 {
@@ -154,6 +157,7 @@ pub fn run(case: &Case, opts: &RunOptions) -> Result<RunOutcome, RunError> {
                     timings.push(report.timings);
                     iterations.push(report.pressure_iterations as f64);
                     last_dt = report.dt_s;
+                    surf.step(&sim, report.dt_s);
                     particle_steps += sim.particles.len() as f64;
                     progress.update(sim.time_s, sim.steps);
                 }
@@ -170,7 +174,7 @@ pub fn run(case: &Case, opts: &RunOptions) -> Result<RunOutcome, RunError> {
             status = f;
             break;
         }
-        record(&sim, timings.last(), last_dt)?;
+        record(&sim, &mut surf, timings.last(), last_dt)?;
         k += 1;
     }
     let wall_s = started.elapsed().as_secs_f64();
@@ -347,6 +351,11 @@ fn summarize(sim: &Simulation, series: &[Integrals], m: &Measured, status: Strin
         gauges: Vec::new(),
         breaking: None,
         surf: None,
+        paddle_absorbed_m: sim
+            .wavemaker
+            .as_ref()
+            .filter(|w| w.absorbs())
+            .map(|w| w.absorbed_offset_m(sim.time_s)),
     }
 }
 

@@ -39,6 +39,10 @@ pub struct Summary {
     /// Wave height, mean level and undertow averaged over whole periods after the spin-up.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub surf: Option<super::surf::SurfSummary>,
+    /// With `wavemaker.absorb_long_waves`: how far absorbing has moved the paddle by the end,
+    /// m (positive: towards the water).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub paddle_absorbed_m: Option<f64>,
 }
 
 #[derive(Debug, Clone, Serialize)]

@@ -96,6 +96,11 @@ impl SurfRecorder {
         self.detector.active() || !self.stations.is_empty()
     }
 
+    /// After every step of a run: the stations integrate their fluxes over time.
+    pub fn step(&mut self, sim: &Simulation, dt_s: f64) {
+        self.stations.accumulate(sim, dt_s);
+    }
+
     /// Observes one output frame, whose water area the caller has measured (`volume_m2`, from
     /// `diagnostics::integrals`); returns the breaking events to log.
     pub fn record(&mut self, sim: &Simulation, volume_m2: f64) -> Vec<String> {

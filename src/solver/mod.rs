@@ -14,7 +14,7 @@ mod nodes;
 mod ordering;
 mod predict;
 pub mod pressure;
-mod relax;
+pub(crate) mod relax;
 mod step;
 mod volume;
 

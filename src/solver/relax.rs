@@ -59,7 +59,7 @@ pub(crate) struct AreaLedger {
 }
 
 /// Area of the part of a triangle with x < c.
-fn area_left_of(p: [Vector2<f64>; 3], c: f64) -> f64 {
+pub(crate) fn area_left_of(p: [Vector2<f64>; 3], c: f64) -> f64 {
     // Clip the triangle by the half-plane x < c (Sutherland–Hodgman) and take the area.
     let mut poly: [Vector2<f64>; 4] = [Vector2::zeros(); 4];
     let mut n = 0;
@@ -146,6 +146,11 @@ impl Solver {
     /// `volume_relaxation_s` > 0. Its sum is the mesh area minus the initial one.
     pub fn area_ledger_m2(&self) -> &[f64] {
         &self.ledger.error_m2
+    }
+
+    /// The width of the ledger's strips, m (0 until the first step).
+    pub fn area_ledger_strip_m(&self) -> f64 {
+        self.ledger.strip_m
     }
 
     /// Before the first step's node stage: the strip areas of the initial mesh.
