@@ -65,6 +65,10 @@ pub struct LongWaveAbsorber {
     offset_m: f64,
     at_s: f64,
     velocity_m_s: f64,
+    /// The absorbing displacement stays within [−back, forward], m: forward at most one
+    /// depth, back no closer than two spacings to the left wall at the end of the stroke.
+    /// A flume that loses water steadily would otherwise push the paddle on for ever.
+    limits_m: (f64, f64),
 }
 
 impl LongWaveAbsorber {
@@ -77,7 +81,14 @@ impl LongWaveAbsorber {
             offset_m: 0.0,
             at_s: 0.0,
             velocity_m_s: 0.0,
+            limits_m: (-f64::INFINITY, f64::INFINITY),
         }
+    }
+
+    /// Bounds the absorbing displacement to [−`back_m`, `forward_m`].
+    pub fn with_limits(mut self, back_m: f64, forward_m: f64) -> Self {
+        self.limits_m = (-back_m.max(0.0), forward_m.max(0.0));
+        self
     }
 
     /// Displacement from absorbing at `t_s` (≥ the last commit), m.
@@ -127,6 +138,12 @@ impl LongWaveAbsorber {
         let mean = integral / self.window_s;
         let arriving = 0.5 * mean;
         self.velocity_m_s = -arriving / ratio;
+        let (lo, hi) = self.limits_m;
+        if (self.offset_m >= hi && self.velocity_m_s > 0.0)
+            || (self.offset_m <= lo && self.velocity_m_s < 0.0)
+        {
+            self.velocity_m_s = 0.0;
+        }
         self.velocity_m_s
     }
 
@@ -155,6 +172,12 @@ impl Wavemaker {
         let n = (length_m / h).round().max(1.0) as usize;
         let spacing = length_m / (n as f64 + 0.5);
         let offsets_m = (0..=n).map(|k| (k as f64 + 0.5) * spacing).collect();
+        let absorber = w.absorb_long_waves.then(|| {
+            let depth = case.paddle_depth_m().unwrap_or(0.0);
+            let (back, _) = motion.excursion_m();
+            LongWaveAbsorber::new(w.period_s, depth, case.fluid.gravity_m_s2)
+                .with_limits(w.x_m + back - 2.0 * h, depth)
+        });
         Some(Ok(Wavemaker {
             motion,
             hinge,
@@ -164,13 +187,7 @@ impl Wavemaker {
             length_m,
             hold_m: 0.0,
             start_s: 0.0,
-            absorber: w.absorb_long_waves.then(|| {
-                LongWaveAbsorber::new(
-                    w.period_s,
-                    case.paddle_depth_m().unwrap_or(0.0),
-                    case.fluid.gravity_m_s2,
-                )
-            }),
+            absorber,
         }))
     }
 
@@ -324,6 +341,25 @@ mod tests {
         let drift = a.offset_at(40.0);
         println!("short waves only: U_a = {u:.2e} m/s, offset {drift:.2e} m");
         assert!(u.abs() < 1e-3 && drift.abs() < 2e-3, "{u} {drift}");
+    }
+
+    #[test]
+    fn the_absorbing_displacement_is_bounded() {
+        // A flume losing water reads a level that keeps falling: the paddle stops one depth in.
+        let mut a = LongWaveAbsorber::new(2.0, 0.4, 9.81).with_limits(0.1, 0.4);
+        let dt = 0.01;
+        for k in 0..20_000 {
+            a.update(k as f64 * dt, Some(-0.02));
+        }
+        let x = a.offset_at(200.0);
+        println!("offset after 200 s of a 2 cm deficit: {x:.4} m (limit 0.4)");
+        assert!((0.39..=0.41).contains(&x), "{x}");
+        let mut a = LongWaveAbsorber::new(2.0, 0.4, 9.81).with_limits(0.1, 0.4);
+        for k in 0..20_000 {
+            a.update(k as f64 * dt, Some(0.02));
+        }
+        let x = a.offset_at(200.0);
+        assert!((-0.11..=-0.09).contains(&x), "{x}");
     }
 
     #[test]
