@@ -235,24 +235,29 @@ impl Stations {
         self.span_s += dt_s;
     }
 
-    /// Per station: ∫u dy and the wet height in each bin now.
+    /// Per station: ∫u dy and the wet height in each bin now. One pass over the triangles
+    /// (this runs every step): each is cut by the stations within its x range.
     fn sections(&self, sim: &Simulation) -> Vec<(Vec<f64>, Vec<f64>)> {
         let p = &sim.particles;
-        self.stations
+        let mut out: Vec<(Vec<f64>, Vec<f64>)> = self
+            .stations
             .iter()
-            .map(|s| {
-                let mut flux = vec![0.0; s.bins];
-                let mut wet = vec![0.0; s.bins];
-                for t in &sim.solver.mesh.triangles {
-                    let Some(((y0, u0), (y1, u1))) = section(t, &p.position, &p.velocity, s.x_m)
-                    else {
-                        continue;
-                    };
-                    add_segment(s, self.dz_m, y0, u0, y1, u1, &mut flux, &mut wet);
+            .map(|s| (vec![0.0; s.bins], vec![0.0; s.bins]))
+            .collect();
+        for t in &sim.solver.mesh.triangles {
+            let xs = t.map(|i| p.position[i as usize].x);
+            let lo = xs[0].min(xs[1]).min(xs[2]);
+            let hi = xs[0].max(xs[1]).max(xs[2]);
+            for (s, (flux, wet)) in self.stations.iter().zip(out.iter_mut()) {
+                if s.x_m < lo || s.x_m >= hi {
+                    continue;
                 }
-                (flux, wet)
-            })
-            .collect()
+                if let Some(((y0, u0), (y1, u1))) = section(t, &p.position, &p.velocity, s.x_m) {
+                    add_segment(s, self.dz_m, y0, u0, y1, u1, flux, wet);
+                }
+            }
+        }
+        out
     }
 
     /// Averages over whole periods of `period_s` from `from_s` to the last sample;
