@@ -200,8 +200,17 @@ fn a_surf_run_writes_breaking_undertow_and_profiles() {
         "h_b_m",
         "H_b_m",
         "t_b_s",
+        "iribarren_b",
+        "battjes_b",
     ] {
         assert!(b.get(key).is_some(), "breaking.{key} missing");
+    }
+    // ξ_b is the Iribarren number of the reported H_b (1:35 beach, T = 2 s).
+    if let (Some(h_b), Some(xi_b)) = (b["H_b_m"].as_f64(), b["iribarren_b"].as_f64()) {
+        assert!(
+            (xi_b - iribarren(1.0 / 35.0, h_b, 2.0, 9.81)).abs() < 1e-9,
+            "{b}"
+        );
     }
     assert_eq!(b["predicted"], "spilling");
     let names = ["spilling", "plunging", "collapsing", "surging", "none"];

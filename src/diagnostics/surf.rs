@@ -207,6 +207,8 @@ pub fn classify(
 #[derive(Debug, Clone)]
 struct BeachSetup {
     g: f64,
+    /// tan β of the beach.
+    slope: f64,
     period_s: f64,
     height_m: f64,
     h: f64,
@@ -307,6 +309,11 @@ pub struct BreakingDetector {
 pub struct BreakingSummary {
     pub iribarren: f64,
     pub predicted: &'static str,
+    /// The Iribarren number at the breaking point, tan β / sqrt(H_b/L₀) with `H_b_m` below,
+    /// and the type Battjes's (1974) breaker-point bands give it (spilling < 0.4 ≤ plunging
+    /// < 2.0 ≤ `collapsing_or_surging`); null when nothing broke.
+    pub iribarren_b: Option<f64>,
+    pub battjes_b: Option<&'static str>,
     /// The most frequent type among the breakers the point is taken from (`basis`; the first
     /// of them on a tie), `surging` when no wave broke but the water ran up the beach, `none`
     /// otherwise.
@@ -388,6 +395,7 @@ impl BreakingDetector {
         let travel = (beach.toe_x_m - w.x_m).max(0.0) / celerity.max(1e-9);
         out.setup = Some(BeachSetup {
             g,
+            slope: beach.slope,
             period_s: w.period_s,
             height_m: w.height_m,
             h,
@@ -673,16 +681,22 @@ impl BreakingDetector {
         };
         let x_b = pick(|b| b.fold_x_m.unwrap_or(b.x_b_m));
         let x_onset = pick(|b| b.x_b_m);
+        let height_b = pick(|b| b.height_b_m);
+        let iribarren_b = height_b
+            .filter(|h| *h > 0.0)
+            .map(|h| breaker::iribarren(s.slope, h, s.period_s, s.g));
         Some(BreakingSummary {
             iribarren: self.iribarren,
             predicted: self.predicted.map_or("none", BreakerType::name),
+            iribarren_b,
+            battjes_b: iribarren_b.map(breaker::battjes_breaker_point_type),
             observed,
             x_b_m: x_b,
             x_b_data_frame_m: x_b.map(|x| x - x_origin_m),
             h_b_m: pick(|b| b.fold_h_m.unwrap_or(b.h_b_m)),
             x_onset_m: x_onset,
             x_onset_data_frame_m: x_onset.map(|x| x - x_origin_m),
-            height_b_m: pick(|b| b.height_b_m),
+            height_b_m: height_b,
             t_b_s: used.first().map(|b| b.t_b_s),
             basis,
             steady_from_s,

@@ -71,6 +71,20 @@ pub fn predicted_type(iribarren: f64) -> BreakerType {
     }
 }
 
+/// Battjes's (1974) bands for the Iribarren number at the breaking point, ξ_b = tan β /
+/// sqrt(H_b/L₀): spilling < 0.4 ≤ plunging < 2.0 ≤ collapsing or surging. A second opinion
+/// beside [`predicted_type`]: its bands are the deep-water ones of the thesis's table, and
+/// ξ_b uses the height the wave actually broke at.
+pub fn battjes_breaker_point_type(iribarren_b: f64) -> &'static str {
+    if iribarren_b < 0.4 {
+        "spilling"
+    } else if iribarren_b < 2.0 {
+        "plunging"
+    } else {
+        "collapsing_or_surging"
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -95,5 +109,21 @@ mod tests {
             assert!((ir - ir_expected).abs() < 0.01, "{ir} vs {ir_expected}");
             assert_eq!(predicted_type(ir), kind);
         }
+    }
+
+    #[test]
+    fn battjes_breaker_point_bands() {
+        // The 1:4 collapsing case's steady breakers (H_b 0.135 m, T 2.2 s) sit in Battjes's
+        // plunging band; the same beach with a 0.06 m breaker is past 2.0.
+        let xi = |h_b: f64| iribarren(0.25, h_b, 2.2, 9.81);
+        assert!((xi(0.135) - 1.87).abs() < 0.01, "{}", xi(0.135));
+        assert_eq!(battjes_breaker_point_type(xi(0.135)), "plunging");
+        assert_eq!(
+            battjes_breaker_point_type(xi(0.06)),
+            "collapsing_or_surging"
+        );
+        assert_eq!(battjes_breaker_point_type(0.39), "spilling");
+        assert_eq!(battjes_breaker_point_type(0.4), "plunging");
+        assert_eq!(battjes_breaker_point_type(2.0), "collapsing_or_surging");
     }
 }
