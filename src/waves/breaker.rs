@@ -73,8 +73,8 @@ pub fn predicted_type(iribarren: f64) -> BreakerType {
 
 /// Battjes's (1974) bands for the Iribarren number at the breaking point, ξ_b = tan β /
 /// sqrt(H_b/L₀): spilling < 0.4 ≤ plunging < 2.0 ≤ collapsing or surging. A second opinion
-/// beside [`predicted_type`]: its bands are the deep-water ones of the thesis's table, and
-/// ξ_b uses the height the wave actually broke at.
+/// beside [`predicted_type`], which applies the thesis's table to the case's H; ξ_b uses the
+/// height the simulated wave broke at.
 pub fn battjes_breaker_point_type(iribarren_b: f64) -> &'static str {
     if iribarren_b < 0.4 {
         "spilling"
