@@ -203,6 +203,16 @@ pub fn classify(
     }
 }
 
+/// The shortest fold that counts as a jet, and the horizontal span over which a face steeper
+/// than 60° counts as a breaking face, m, for particle spacing `h_m` and wave height
+/// `height_m`: 2h (one particle above the surface is not a jet) or 0.3 H, whichever is longer.
+/// At the 2 cm of the surf cases 2h is the longer (0.3 H = 3.75 cm for H = 0.125 m), so their
+/// criteria are those of 2h; at finer spacings the criteria keep that physical size instead of
+/// shrinking with h and seeing breaking in ever smaller folds and steps of the surface.
+pub fn jet_length_m(h_m: f64, height_m: f64) -> f64 {
+    (2.0 * h_m).max(0.3 * height_m)
+}
+
 /// Fixed quantities of a flume with a beach and a wavemaker.
 #[derive(Debug, Clone)]
 struct BeachSetup {
@@ -214,6 +224,9 @@ struct BeachSetup {
     h: f64,
     /// Absolute still-water level over the beach, m.
     level_m: f64,
+    /// The shortest fold that is a jet, and the horizontal span over which a face steeper than
+    /// 60° is a breaking face, m: `jet_length_m`.
+    jet_m: f64,
     /// Crests are searched between these x.
     x_min_m: f64,
     x_max_m: f64,
@@ -400,6 +413,7 @@ impl BreakingDetector {
             height_m: w.height_m,
             h,
             level_m: level,
+            jet_m: jet_length_m(h, w.height_m),
             x_min_m: (beach.toe_x_m - 0.25 * wavelength).max(w.x_m + 0.25 * wavelength),
             x_max_m: case.flume.length_m - 3.0 * h,
             gate_s: w.ramp_periods * w.period_s + travel,
@@ -437,7 +451,7 @@ impl BreakingDetector {
         let k_min = profile.index(s.x_min_m);
         let k_max = profile.index(s.x_max_m);
         let span = |m: f64| ((m / profile.dx_m).round() as usize).max(1);
-        let face_span = span(2.0 * s.h);
+        let face_span = span(s.jet_m);
 
         // Overturned runs: contiguous samples with three or more crossings, kept when the
         // water on top of them moves shoreward on average. A breaker's jet is thrown ahead of
@@ -496,7 +510,7 @@ impl BreakingDetector {
                         w.breaker.overturn_reach_m = b - a;
                         w.breaker.overturn_top_m = top - w.trough_m;
                     }
-                    if b - a >= 2.0 * s.h && w.breaker.fold_x_m.is_none() {
+                    if b - a >= s.jet_m && w.breaker.fold_x_m.is_none() {
                         w.breaker.fold_x_m = Some(w.crest_x_m);
                         w.breaker.fold_h_m = Some(depth_at(w.crest_x_m).max(0.0));
                         w.breaker.fold_t_s = Some(t);
@@ -561,8 +575,7 @@ impl BreakingDetector {
             let steep_near = (k..(k + span(2.0 * s.height_m)))
                 .take_while(|&j| j + face_span <= k_max)
                 .any(steep);
-            // A fold over 2h or more: one particle above the surface is not a jet.
-            if reach_near >= 2.0 * s.h {
+            if reach_near >= s.jet_m {
                 onset = Some((x, "overturning", reach_near, top_near));
             } else if steep_near {
                 onset = Some((x, "steep_face", 0.0, 0.0));
@@ -742,6 +755,16 @@ mod tests {
         // breaks where the last one did: a new onset.
         assert!(!tracker.offer(13.9, None, jump, gap));
         assert!(tracker.offer(14.1, Some(6.1), jump, gap));
+    }
+
+    #[test]
+    fn the_jet_length_is_the_resolution_limit_or_a_fraction_of_the_wave() {
+        // The surf cases at h = 2 cm keep 2h; at the thesis's 1.6 cm and at 1 cm the length
+        // stays 0.3 H instead of following h down.
+        assert_eq!(jet_length_m(0.02, 0.125), 0.04);
+        assert_eq!(jet_length_m(0.02, 0.128), 0.04);
+        assert!((jet_length_m(0.016, 0.125) - 0.0375).abs() < 1e-15);
+        assert!((jet_length_m(0.01, 0.125) - 0.0375).abs() < 1e-15);
     }
 
     #[test]
