@@ -206,9 +206,10 @@ pub fn classify(
 /// The shortest fold that counts as a jet, and the horizontal span over which a face steeper
 /// than 60° counts as a breaking face, m, for particle spacing `h_m` and wave height
 /// `height_m`: 2h (one particle above the surface is not a jet) or 0.3 H, whichever is longer.
-/// At the 2 cm of the surf cases 2h is the longer (0.3 H = 3.75 cm for H = 0.125 m), so their
-/// criteria are those of 2h; at finer spacings the criteria keep that physical size instead of
-/// shrinking with h and seeing breaking in ever smaller folds and steps of the surface.
+/// At 2 cm, 2h is the longer for waves up to 0.133 m (0.3 H = 3.75 cm for H = 0.125 m), so the
+/// Ting & Kirby and collapsing cases keep the criteria of 2h (`plunging_slope025`, H = 0.30 m,
+/// gets 9 cm); at finer spacings the criteria keep that physical size instead of shrinking
+/// with h and seeing breaking in ever smaller folds and steps of the surface.
 pub fn jet_length_m(h_m: f64, height_m: f64) -> f64 {
     (2.0 * h_m).max(0.3 * height_m)
 }
@@ -759,7 +760,7 @@ mod tests {
 
     #[test]
     fn the_jet_length_is_the_resolution_limit_or_a_fraction_of_the_wave() {
-        // The surf cases at h = 2 cm keep 2h; at the thesis's 1.6 cm and at 1 cm the length
+        // Ting & Kirby's cases at h = 2 cm keep 2h; at the thesis's 1.6 cm and at 1 cm the length
         // stays 0.3 H instead of following h down.
         assert_eq!(jet_length_m(0.02, 0.125), 0.04);
         assert_eq!(jet_length_m(0.02, 0.128), 0.04);
