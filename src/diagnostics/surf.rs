@@ -225,14 +225,18 @@ struct BeachSetup {
     h: f64,
     /// Absolute still-water level over the beach, m.
     level_m: f64,
-    /// The shortest fold that is a jet, and the horizontal span over which a face steeper than
-    /// 60° is a breaking face, m: `jet_length_m`.
-    jet_m: f64,
     /// Crests are searched between these x.
     x_min_m: f64,
     x_max_m: f64,
     /// Onsets before this time belong to the ramped first waves.
     gate_s: f64,
+}
+
+impl BeachSetup {
+    /// The shortest fold that is a jet, and the span of a breaking face, m: `jet_length_m`.
+    fn jet_m(&self) -> f64 {
+        jet_length_m(self.h, self.height_m)
+    }
 }
 
 /// The onset being watched.
@@ -414,7 +418,6 @@ impl BreakingDetector {
             height_m: w.height_m,
             h,
             level_m: level,
-            jet_m: jet_length_m(h, w.height_m),
             x_min_m: (beach.toe_x_m - 0.25 * wavelength).max(w.x_m + 0.25 * wavelength),
             x_max_m: case.flume.length_m - 3.0 * h,
             gate_s: w.ramp_periods * w.period_s + travel,
@@ -452,7 +455,7 @@ impl BreakingDetector {
         let k_min = profile.index(s.x_min_m);
         let k_max = profile.index(s.x_max_m);
         let span = |m: f64| ((m / profile.dx_m).round() as usize).max(1);
-        let face_span = span(s.jet_m);
+        let face_span = span(s.jet_m());
 
         // Overturned runs: contiguous samples with three or more crossings, kept when the
         // water on top of them moves shoreward on average. A breaker's jet is thrown ahead of
@@ -511,7 +514,7 @@ impl BreakingDetector {
                         w.breaker.overturn_reach_m = b - a;
                         w.breaker.overturn_top_m = top - w.trough_m;
                     }
-                    if b - a >= s.jet_m && w.breaker.fold_x_m.is_none() {
+                    if b - a >= s.jet_m() && w.breaker.fold_x_m.is_none() {
                         w.breaker.fold_x_m = Some(w.crest_x_m);
                         w.breaker.fold_h_m = Some(depth_at(w.crest_x_m).max(0.0));
                         w.breaker.fold_t_s = Some(t);
@@ -576,7 +579,7 @@ impl BreakingDetector {
             let steep_near = (k..(k + span(2.0 * s.height_m)))
                 .take_while(|&j| j + face_span <= k_max)
                 .any(steep);
-            if reach_near >= s.jet_m {
+            if reach_near >= s.jet_m() {
                 onset = Some((x, "overturning", reach_near, top_near));
             } else if steep_near {
                 onset = Some((x, "steep_face", 0.0, 0.0));
