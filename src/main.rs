@@ -5,9 +5,8 @@ use clap::{Parser, Subcommand};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use surflab::case::Case;
-use surflab::output::colormap::ColorScale;
-use surflab::output::rrd::RrdLogger;
-use surflab::output::run::{RunOptions, log_frame, run};
+use surflab::output::recorder::{Frame, FrameRecorder, StageStats};
+use surflab::output::run::{RunOptions, run};
 use surflab::output::summary::median;
 use surflab::simulation::Simulation;
 
@@ -26,6 +25,10 @@ static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
+    /// Refuse a case whose fluid particles plus wall nodes would exceed N (estimated before
+    /// seeding). The default suits a 24 GiB machine; raise it on a bigger one.
+    #[arg(long, global = true, value_name = "N", default_value_t = surflab::case::DEFAULT_MAX_NODES)]
+    max_particles: usize,
 }
 
 #[derive(Subcommand)]
@@ -85,6 +88,23 @@ enum Command {
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
     },
+    /// Check a case without running it: validate every field and print the sizes it would
+    /// take (particles, wall nodes, frames, steps).
+    Check {
+        case: PathBuf,
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+    },
+    /// Open recordings (.rrd) in the embedded viewer; several are merged on one timeline, each
+    /// run's entities under its folder's name, to compare runs side by side.
+    #[cfg(feature = "lab")]
+    View {
+        #[arg(required = true, value_name = "FILE.rrd")]
+        files: Vec<PathBuf>,
+        /// Save a PNG of the window once the recordings are shown, and exit.
+        #[arg(long, value_name = "PATH")]
+        screenshot: Option<PathBuf>,
+    },
     /// Time the step: ms per step by stage, particles and particle-steps per second.
     Bench {
         case: PathBuf,
@@ -101,6 +121,7 @@ enum Command {
 
 fn main() {
     let cli = Cli::parse();
+    surflab::case::set_max_nodes(cli.max_particles);
     let result = match cli.command {
         Some(Command::Run {
             case,
@@ -123,6 +144,11 @@ fn main() {
             until,
             set,
         }) => cmd_validate(&case, from, out, until, &set),
+        Some(Command::Check { case, set }) => cmd_check(&case, &set),
+        #[cfg(feature = "lab")]
+        Some(Command::View { files, screenshot }) => {
+            surflab::lab::view(surflab::lab::ViewOptions { files, screenshot })
+        }
         #[cfg(feature = "lab")]
         Some(Command::Lab {
             case,
@@ -195,6 +221,26 @@ fn load(path: &Path, set: &[String], until: Option<f64>) -> Result<Case> {
         overrides.push(format!("time.end_s={t}"));
     }
     Ok(Case::load(path, &overrides)?)
+}
+
+fn cmd_check(path: &Path, set: &[String]) -> Result<()> {
+    let case = load(path, set, None)?;
+    let e = case.size_estimate();
+    println!(
+        "{}: valid; about {:.0} fluid particles and {:.0} wall nodes at h = {} m (limit {} in all), \
+         {:.0} frames every {} s to t = {} s, at least {:.0} steps (Δt ≤ {} s)",
+        case.name,
+        e.fluid,
+        e.walls,
+        case.particles.spacing_m,
+        surflab::case::max_nodes(),
+        e.frames,
+        case.output.interval_s,
+        case.time.end_s,
+        e.min_steps,
+        case.time.dt_max_s
+    );
+    Ok(())
 }
 
 fn cmd_run(
@@ -379,21 +425,12 @@ fn cmd_bench(path: &Path, steps: u64, json: bool, set: &[String]) -> Result<()> 
     let case = load(path, set, None)?;
     let mut sim = Simulation::new(&case).context("seeding the case")?;
     let n = sim.particles.len();
-    // Logging is timed into a throw-away recording, one frame every `every` steps.
+    // Logging is timed into a throw-away recording, one frame every `every` steps, as `run`
+    // records at each output.
     let tmp = std::env::temp_dir().join(format!("surflab-bench-{}.rrd", std::process::id()));
-    let (lo, hi) = case.u1_range();
-    let outline: Vec<[f64; 2]> = sim.flume.outline.iter().map(|p| [p.x, p.y]).collect();
-    let mut rrd = RrdLogger::create(
-        &tmp,
-        "surflab-bench",
-        &outline,
-        ColorScale { min: lo, max: hi },
-        0.5 * case.particles.spacing_m,
-    )?;
+    let mut recorder = FrameRecorder::to_file(&tmp, "surflab-bench", &sim)?;
     let every = 10;
-    let mut stage_samples: Vec<Vec<f64>> = vec![Vec::new(); 9];
-    let mut names = Vec::new();
-    let mut total = Vec::new();
+    let mut stages = StageStats::default();
     let mut log_ms = Vec::new();
     let mut iters = Vec::new();
     // Insertion and removal change the count: particle-steps are summed step by step.
@@ -404,41 +441,29 @@ fn cmd_bench(path: &Path, steps: u64, json: bool, set: &[String]) -> Result<()> 
             .step_towards(f64::INFINITY)
             .with_context(|| format!("step {k} at t = {:.5} s", sim.time_s))?;
         particle_steps += sim.particles.len();
-        names = report.timings.named().iter().map(|(n, _)| *n).collect();
-        for (s, (_, ms)) in stage_samples.iter_mut().zip(report.timings.named()) {
-            s.push(ms);
-        }
-        total.push(report.timings.total_ms());
+        stages.push(report.timings);
         iters.push(report.pressure_iterations as f64);
         if k % every == 0 {
-            // What `run` does at each output: the integrals and one frame.
             let t0 = Instant::now();
-            let m = surflab::diagnostics::integrals(&sim);
-            let values = surflab::output::run::gauge_values(&sim);
-            let names = surflab::output::timeseries::gauge_columns(
-                &sim.case.output.gauges_x_m,
-                &sim.case.output.probes_m,
-            );
-            let gauges: Vec<(&str, Option<f64>)> =
-                names.iter().map(String::as_str).zip(values).collect();
-            log_frame(&mut rrd, &sim, &m, Some(&report.timings), &gauges, false)
-                .map_err(anyhow::Error::msg)?;
+            recorder.log(&sim, &Frame::of(&sim), Some(&report.timings), &[])?;
             log_ms.push(t0.elapsed().as_secs_f64() * 1e3);
         }
     }
     let wall = started.elapsed().as_secs_f64();
-    rrd.flush();
-    drop(rrd);
+    recorder.flush();
+    drop(recorder);
     let _ = std::fs::remove_file(&tmp);
 
     let log_per_step = median(&log_ms) / every as f64;
-    let step_ms = median(&total);
+    let step_ms = stages.median_total_ms();
     let particle_steps_per_s = particle_steps as f64 / wall;
     let mean_particles = particle_steps as f64 / steps as f64;
-    let mut stages: Vec<(String, f64)> = names
+    // In step order, then the logging.
+    let medians = stages.stage_medians();
+    let mut stages: Vec<(String, f64)> = surflab::solver::StageTimings::default()
+        .named()
         .iter()
-        .zip(&stage_samples)
-        .map(|(n, s)| (n.to_string(), median(s)))
+        .map(|(name, _)| (name.to_string(), medians[*name]))
         .collect();
     stages.push(("logging".into(), log_per_step));
     if json {

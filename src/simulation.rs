@@ -106,6 +106,22 @@ impl Simulation {
         })
     }
 
+    /// Takes a changed case from the next step on, without a new flume: the solver's parameters
+    /// (α, …) and the paddle's wave (height, period), which ramps from where the paddle stands.
+    /// The case must describe the same flume and particles (the lab rebuilds for those).
+    pub fn retune(&mut self, case: &Case) {
+        self.solver.retune(case);
+        if let (Some(w), Some(Ok(motion))) = (self.wavemaker.as_mut(), case.paddle_motion()) {
+            w.retune(motion, self.time_s);
+        }
+        self.case = case.clone();
+    }
+
+    /// Steps on one core only (see [`Solver::use_one_core`]).
+    pub fn use_one_core(&mut self) {
+        self.solver.use_one_core();
+    }
+
     /// The Δt the policy asks for, shortened so that the step lands on `until_s`.
     pub fn next_dt(&self, until_s: f64) -> f64 {
         let t = &self.case.time;

@@ -8,11 +8,13 @@
 //! Lengths are in metres with y up and y = 0 at the flume floor; times in seconds; SI throughout.
 
 mod overrides;
+mod size;
 
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 pub use overrides::apply_override;
+pub use size::{DEFAULT_MAX_NODES, SizeEstimate, max_nodes, set_max_nodes};
 
 use crate::waves::WaveError;
 use crate::waves::linear::PaddleKind;
@@ -564,6 +566,17 @@ impl Case {
         Ok(case)
     }
 
+    /// Validates a case changed in code (the lab's controls) exactly as a file is validated;
+    /// `file` is only used in messages.
+    pub fn check(&self, file: &Path) -> Result<(), CaseError> {
+        self.validate()
+            .map_err(|(field, message)| CaseError::Field {
+                file: file.to_owned(),
+                field,
+                message,
+            })
+    }
+
     /// The still-water level at `x_m`: the depth of the deepest region spanning it.
     pub fn still_level_at(&self, x_m: f64) -> Option<f64> {
         self.water
@@ -936,7 +949,7 @@ impl Case {
                 );
             }
         }
-        Ok(())
+        self.validate_size()
     }
 }
 

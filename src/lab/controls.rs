@@ -65,40 +65,40 @@ impl Controls {
         }
     }
 
-    /// `--set` assignments that turn the preset into these settings.
-    pub fn overrides(&self) -> Vec<String> {
-        let mut o = vec![
-            format!("solver.alpha={}", self.alpha),
-            format!("particles.spacing_m={}", self.spacing_m),
-        ];
-        if let Some(v) = self.height_m {
-            o.push(format!("wavemaker.height_m={v}"));
-            if self.paddle_ratio != 1.0 {
-                o.push(format!(
-                    "wavemaker.paddle_height_m={}",
-                    v * self.paddle_ratio
-                ));
+    /// Puts these settings into `case` (a parsed preset), field by field; the fields that do
+    /// not apply to the preset (`None`) are left alone.
+    pub fn apply(&self, case: &mut Case) {
+        case.solver.alpha = self.alpha;
+        case.particles.spacing_m = self.spacing_m;
+        if let Some(w) = case.wavemaker.as_mut() {
+            if let Some(h) = self.height_m {
+                w.height_m = h;
+                if self.paddle_ratio != 1.0 {
+                    w.paddle_height_m = Some(h * self.paddle_ratio);
+                }
+            }
+            if let Some(t) = self.period_s {
+                w.period_s = t;
+            }
+            if let Some(p) = self.paddle {
+                w.paddle = p;
+            }
+            if let Some(t) = self.theory {
+                w.theory = t;
             }
         }
-        if let Some(v) = self.period_s {
-            o.push(format!("wavemaker.period_s={v}"));
+        if let (Some(b), Some(slope)) = (case.flume.beach.as_mut(), self.slope) {
+            b.slope = slope;
         }
-        if let Some(v) = self.paddle {
-            o.push(format!("wavemaker.paddle={}", enum_name(&v)));
-        }
-        if let Some(v) = self.theory {
-            o.push(format!("wavemaker.theory={}", enum_name(&v)));
-        }
-        if let Some(v) = self.slope {
-            o.push(format!("flume.beach.slope={v}"));
-        }
-        o
     }
 
     /// The case these settings make from `preset`, validated like a file: an error names the
     /// field and the reason (a wave too steep, a stroke the flume has no room for, …).
     pub fn case(&self, preset: &Preset) -> Result<Case, CaseError> {
-        Case::from_toml_str(&preset.text, &preset.path, &preset.name, &self.overrides())
+        let mut case = Case::from_toml_str(&preset.text, &preset.path, &preset.name, &[])?;
+        self.apply(&mut case);
+        case.check(&preset.path)?;
+        Ok(case)
     }
 
     /// Does going from `self` to `other` need a new flume (new geometry or particles)?
@@ -108,13 +108,6 @@ impl Controls {
             || self.paddle != other.paddle
             || self.theory != other.theory
     }
-}
-
-fn enum_name<T: serde::Serialize>(v: &T) -> String {
-    serde_json::to_value(v)
-        .ok()
-        .and_then(|v| v.as_str().map(str::to_owned))
-        .unwrap_or_default()
 }
 
 /// Values derived from a case, for the read-outs.

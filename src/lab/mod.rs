@@ -5,11 +5,14 @@
 //! - [`controls`]: settings → case, and the derived read-outs (no egui);
 //! - [`worker`]: the solver thread and its typed commands;
 //! - [`panel`]: the side panel;
-//! - [`window`]: the eframe app that hosts the viewer and the panel.
+//! - [`window`]: the eframe app that hosts the viewer and the panel;
+//! - [`view`]: `surflab view`, recordings in the same embedded viewer.
 
 pub mod controls;
 pub mod panel;
+mod view;
 mod window;
 pub mod worker;
 
+pub use view::{ViewOptions, view};
 pub use window::{LabOptions, run};

@@ -88,7 +88,7 @@ pub fn run(opts: LabOptions) -> anyhow::Result<()> {
         crate::case::Case::from_toml_str(&p.text, &p.path, &p.name, &[])?;
     }
 
-    re_crash_handler_install();
+    install_crash_handler();
     let runtime = tokio_runtime()?;
     let (tx, rx) = re_log_channel::log_channel(LogSource::Sdk);
     let tx = Arc::new(Mutex::new(tx));
@@ -156,7 +156,7 @@ pub fn run(opts: LabOptions) -> anyhow::Result<()> {
     .map_err(|e| anyhow::anyhow!("the window failed: {e}"))
 }
 
-fn re_crash_handler_install() {
+pub(super) fn install_crash_handler() {
     rerun::external::re_crash_handler::install_crash_handlers(re_viewer::build_info());
 }
 
@@ -164,7 +164,7 @@ fn re_crash_handler_install() {
 /// rasterizer (lavapipe, llvmpipe: no GPU) the flume view renders without 4× multisampling.
 /// There the rasterizer threads take most of the window's CPU time, and every sample of the
 /// 2D view is shaded on the CPU.
-fn setup_renderer(
+pub(super) fn setup_renderer(
     cc: &eframe::CreationContext<'_>,
 ) -> Result<(), re_viewer::external::re_renderer::RenderContextError> {
     use re_viewer::external::re_renderer::{MsaaMode, RenderConfig, RenderContext};
@@ -252,41 +252,64 @@ impl LabApp {
             shot.requested = true;
             ctx.send_viewport_cmd(egui::ViewportCommand::Screenshot(Default::default()));
         }
-        let image = ctx.input(|i| {
-            i.raw.events.iter().find_map(|e| match e {
-                egui::Event::Screenshot { image, .. } => Some(image.clone()),
-                _ => None,
-            })
-        });
-        if let Some(image) = image {
-            let [w, h] = image.size;
-            let bytes: Vec<u8> = image.pixels.iter().flat_map(|c| c.to_array()).collect();
-            let result = image::RgbaImage::from_raw(w as u32, h as u32, bytes)
-                .ok_or_else(|| "bad screenshot buffer".to_owned())
-                .and_then(|img| img.save(&shot.path).map_err(|e| e.to_string()));
-            match result {
-                Ok(()) => {
-                    eprintln!(
-                        "surflab: saved {} ({w}×{h}) at t = {:.3} s simulated",
-                        shot.path.display(),
-                        status.t_s
-                    );
+        match save_screenshot(ctx, &shot.path) {
+            ShotOutcome::Waiting => {}
+            outcome => {
+                if outcome == ShotOutcome::Saved {
                     let running_s = shot
                         .running_since
                         .map_or(0.0, |t| t.elapsed().as_secs_f64());
                     eprintln!(
-                        "surflab: the window drew {} frames in {running_s:.1} s while the solver ran \
-                         ({:.1} frames/s); solver: real-time factor {:.2}, {:.1} ms/step",
+                        "surflab: at t = {:.3} s simulated the window drew {} frames in {running_s:.1} s \
+                         while the solver ran ({:.1} frames/s); solver: real-time factor {:.2}, {:.1} ms/step",
+                        status.t_s,
                         shot.frames_running,
                         f64::from(shot.frames_running) / running_s.max(1e-9),
                         status.real_time_factor,
                         status.ms_per_step
                     );
                 }
-                Err(e) => eprintln!("surflab: cannot save {}: {e}", shot.path.display()),
+                ctx.send_viewport_cmd(egui::ViewportCommand::Close);
             }
-            ctx.send_viewport_cmd(egui::ViewportCommand::Close);
         }
         ctx.request_repaint();
+    }
+}
+
+/// What became of a requested screenshot this frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum ShotOutcome {
+    /// Not arrived yet.
+    Waiting,
+    Saved,
+    Failed,
+}
+
+/// Saves the screenshot to `path` when it has arrived in this frame's events (after a
+/// `ViewportCommand::Screenshot`), and says so on stderr.
+pub(super) fn save_screenshot(ctx: &egui::Context, path: &std::path::Path) -> ShotOutcome {
+    let image = ctx.input(|i| {
+        i.raw.events.iter().find_map(|e| match e {
+            egui::Event::Screenshot { image, .. } => Some(image.clone()),
+            _ => None,
+        })
+    });
+    let Some(image) = image else {
+        return ShotOutcome::Waiting;
+    };
+    let [w, h] = image.size;
+    let bytes: Vec<u8> = image.pixels.iter().flat_map(|c| c.to_array()).collect();
+    let result = image::RgbaImage::from_raw(w as u32, h as u32, bytes)
+        .ok_or_else(|| "bad screenshot buffer".to_owned())
+        .and_then(|img| img.save(path).map_err(|e| e.to_string()));
+    match result {
+        Ok(()) => {
+            eprintln!("surflab: saved {} ({w}×{h})", path.display());
+            ShotOutcome::Saved
+        }
+        Err(e) => {
+            eprintln!("surflab: cannot save {}: {e}", path.display());
+            ShotOutcome::Failed
+        }
     }
 }

@@ -10,13 +10,10 @@
 //! in the status; the thread lives on and obeys the next command.
 
 use crate::case::Case;
-use crate::diagnostics;
 use crate::diagnostics::surf::BreakingDetector;
-use crate::output::colormap::ColorScale;
+use crate::output::recorder::{Frame, FrameRecorder};
 use crate::output::rrd::{RrdLogger, Viewing};
-use crate::output::run::{gauge_values, log_frame};
 use crate::output::surf::{SurfRecorder, log_profiles};
-use crate::output::timeseries::gauge_columns;
 use crate::simulation::Simulation;
 use crate::solver::StageTimings;
 use rerun::sink::LogSink;
@@ -302,7 +299,7 @@ struct Worker {
     sim: Option<Simulation>,
     case: Case,
     sinks: SinkFactory,
-    logger: Option<RrdLogger>,
+    recorder: Option<FrameRecorder>,
     recording: Option<PathBuf>,
     status_tx: Sender<Status>,
     status: Status,
@@ -334,7 +331,7 @@ impl Worker {
             sim: None,
             case: case.clone(),
             sinks,
-            logger: None,
+            recorder: None,
             recording: None,
             status_tx,
             status: Status::default(),
@@ -431,7 +428,7 @@ impl Worker {
         match Simulation::new(&self.case) {
             Ok(mut sim) => {
                 // One core for the solver, the other for the window.
-                sim.solver.params.two_threads = false;
+                sim.use_one_core();
                 self.surf = Some(Surf::new(&sim));
                 self.sim = Some(sim);
             }
@@ -450,11 +447,7 @@ impl Worker {
         let Some(sim) = self.sim.as_mut() else {
             return self.reset(case);
         };
-        sim.solver.params.alpha = case.solver.alpha;
-        if let (Some(w), Some(Ok(motion))) = (sim.wavemaker.as_mut(), case.paddle_motion()) {
-            w.retune(motion, sim.time_s);
-        }
-        sim.case = case.clone();
+        sim.retune(&case);
         // A new wave: breakers are counted afresh, from the next full-height wave on, and the
         // averages start again.
         let mut surf = Surf::new(sim);
@@ -466,7 +459,7 @@ impl Worker {
     /// A new recording (the viewer shows it as the newest), fed to the viewer and, when
     /// recording, to the .rrd file.
     fn open_logger(&mut self) {
-        self.logger = None;
+        self.recorder = None;
         let Some(sim) = &self.sim else { return };
         let mut sinks = (self.sinks)();
         if let Some(path) = &self.recording {
@@ -479,24 +472,15 @@ impl Worker {
             }
         }
         self.status.recording = self.recording.clone();
-        let stream = match rerun::RecordingStreamBuilder::new("surflab").set_sinks(sinks) {
-            Ok(s) => s,
-            Err(e) => {
-                self.status.error = Some(format!("cannot open the recording: {e}"));
-                return;
-            }
-        };
-        stream.set_log_time_enabled(false);
-        let (lo, hi) = self.case.u1_range();
-        let outline: Vec<[f64; 2]> = sim.flume.outline.iter().map(|p| [p.x, p.y]).collect();
-        match RrdLogger::from_stream(
-            stream,
-            &outline,
-            ColorScale { min: lo, max: hi },
-            0.5 * self.case.particles.spacing_m,
-            Viewing::Live,
-        ) {
-            Ok(l) => self.logger = Some(l),
+        let opened = rerun::RecordingStreamBuilder::new("surflab")
+            .set_sinks(sinks)
+            .map_err(|e| e.to_string())
+            .and_then(|stream| {
+                stream.set_log_time_enabled(false);
+                FrameRecorder::to_stream(stream, sim, Viewing::Live).map_err(|e| e.to_string())
+            });
+        match opened {
+            Ok(r) => self.recorder = Some(r),
             Err(e) => self.status.error = Some(format!("cannot open the recording: {e}")),
         }
     }
@@ -578,32 +562,24 @@ impl Worker {
     }
 
     fn log(&mut self) {
-        let (Some(sim), Some(logger)) = (&self.sim, self.logger.as_mut()) else {
+        let (Some(sim), Some(recorder)) = (&self.sim, self.recorder.as_mut()) else {
             return;
         };
-        let m = diagnostics::integrals(sim);
-        let values = gauge_values(sim);
-        let names = gauge_columns(&sim.case.output.gauges_x_m, &sim.case.output.probes_m);
-        let gauges: Vec<(&str, Option<f64>)> = names
-            .iter()
-            .map(String::as_str)
-            .zip(values.iter().copied())
-            .collect();
+        let frame = Frame::of(sim);
         let timings = self.last_timings.map(|t| {
             let n = self.status.steps_per_frame.max(1) as f64;
             t.zip_with(&t, |a, _| a / n)
         });
-        if let Err(e) = log_frame(logger, sim, &m, timings.as_ref(), &gauges, false) {
+        let mut surf = self.surf.as_mut().filter(|s| s.recorder.active());
+        let events = surf.as_mut().map_or_else(Vec::new, |s| {
+            s.recorder.record(sim, frame.integrals.volume_m2)
+        });
+        if let Err(e) = recorder.log(sim, &frame, timings.as_ref(), &events) {
             self.status.error = Some(format!("recording failed: {e}"));
         }
-        if let Some(surf) = self.surf.as_mut().filter(|s| s.recorder.active()) {
-            for event in surf.recorder.record(sim, m.volume_m2) {
-                if let Err(e) = logger.log_text(sim.time_s, "events/breaking", &event) {
-                    self.status.error = Some(format!("recording failed: {e}"));
-                }
-            }
-            surf.gauge_records.push((sim.time_s, values));
-            surf.log_averages(sim, logger);
+        if let Some(surf) = surf {
+            surf.gauge_records.push((sim.time_s, frame.gauges.clone()));
+            surf.log_averages(sim, recorder.logger());
             if let Some(b) = surf.recorder.detector.breakers.last() {
                 self.status.breaker = Some(format!(
                     "{} at x = {:.2} m (still depth {:.3} m, height {:.3} m), t = {:.1} s",
@@ -615,7 +591,7 @@ impl Worker {
                 ));
             }
         }
-        self.status.volume_ratio = m.volume_m2 / sim.initial_volume_m2;
+        self.status.volume_ratio = frame.integrals.volume_m2 / sim.initial_volume_m2;
         self.status.frames += 1;
         self.last_logged = Some(Instant::now());
     }

@@ -2,6 +2,7 @@
 //! the run driver that hangs them off a [`crate::Simulation`].
 
 pub mod colormap;
+pub mod recorder;
 pub mod rrd;
 pub mod run;
 pub mod summary;

@@ -2,15 +2,13 @@
 //! a frame to `run.rrd`, a row to `timeseries.csv`; write `summary.json` at the end, whatever the
 //! end was. Numerical trouble ends the run with a status; what was recorded stays readable.
 
-use super::colormap::ColorScale;
-use super::rrd::{FrameView, RrdLogger};
+use super::recorder::{Frame, FrameRecorder, StageStats};
 use super::summary::{GaugeSummary, Summary, median};
 use super::surf::{SurfRecorder, log_profiles, write_profiles};
 use super::timeseries::{GaugeWriter, TimeseriesWriter, gauge_columns};
 use crate::case::Case;
 use crate::diagnostics::{self, Integrals};
 use crate::simulation::Simulation;
-use crate::solver::StageTimings;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -72,22 +70,12 @@ pub fn run(case: &Case, opts: &RunOptions) -> Result<RunOutcome, RunError> {
     };
     let mut gauge_records: Vec<(f64, Vec<Option<f64>>)> = Vec::new();
     let rrd_path = opts.out_dir.join("run.rrd");
+    let rrd_err = |e: super::rrd::RrdError| RunError::Rrd {
+        path: rrd_path.clone(),
+        message: e.to_string(),
+    };
     let mut rrd = if opts.rrd {
-        let (lo, hi) = case.u1_range();
-        let outline: Vec<[f64; 2]> = sim.flume.outline.iter().map(|p| [p.x, p.y]).collect();
-        Some(
-            RrdLogger::create(
-                &rrd_path,
-                "surflab",
-                &outline,
-                ColorScale { min: lo, max: hi },
-                0.5 * case.particles.spacing_m,
-            )
-            .map_err(|e| RunError::Rrd {
-                path: rrd_path.clone(),
-                message: e.to_string(),
-            })?,
-        )
+        Some(FrameRecorder::to_file(&rrd_path, "surflab", &sim).map_err(rrd_err)?)
     } else {
         None
     };
@@ -95,7 +83,7 @@ pub fn run(case: &Case, opts: &RunOptions) -> Result<RunOutcome, RunError> {
     let end_s = case.time.end_s;
     let interval = case.output.interval_s;
     let mut series = Vec::new();
-    let mut timings: Vec<StageTimings> = Vec::new();
+    let mut timings = StageStats::default();
     let mut logging_ms: Vec<f64> = Vec::new();
     let mut iterations: Vec<f64> = Vec::new();
     let mut last_dt = 0.0;
@@ -107,40 +95,23 @@ pub fn run(case: &Case, opts: &RunOptions) -> Result<RunOutcome, RunError> {
     let mut surf = SurfRecorder::new(&sim);
     let mut record = |sim: &Simulation,
                       surf: &mut SurfRecorder,
-                      last: Option<&StageTimings>,
+                      last: Option<&crate::solver::StageTimings>,
                       last_dt: f64|
      -> Result<(), RunError> {
         let t0 = Instant::now();
-        let m = diagnostics::integrals(sim);
-        let events = surf.record(sim, m.volume_m2);
-        csv.row(&m, sim.initial_volume_m2, sim.steps, last_dt)
+        let frame = Frame::of(sim);
+        let events = surf.record(sim, frame.integrals.volume_m2);
+        csv.row(&frame.integrals, sim.initial_volume_m2, sim.steps, last_dt)
             .map_err(io_err(&csv_path))?;
-        let values = gauge_values(sim);
         if let Some(g) = gauge_csv.as_mut() {
-            g.row(sim.time_s, &values).map_err(io_err(&gauge_path))?;
+            g.row(sim.time_s, &frame.gauges)
+                .map_err(io_err(&gauge_path))?;
         }
         if let Some(rrd) = rrd.as_mut() {
-            for e in &events {
-                rrd.log_text(sim.time_s, "events/breaking", e)
-                    .map_err(|e| RunError::Rrd {
-                        path: rrd_path.clone(),
-                        message: e.to_string(),
-                    })?;
-            }
-            let gauges: Vec<(&str, Option<f64>)> = gauge_columns
-                .iter()
-                .map(String::as_str)
-                .zip(values.iter().copied())
-                .collect();
-            log_frame(rrd, sim, &m, last, &gauges, case.output.mesh).map_err(|message| {
-                RunError::Rrd {
-                    path: rrd_path.clone(),
-                    message,
-                }
-            })?;
+            rrd.log(sim, &frame, last, &events).map_err(rrd_err)?;
         }
-        gauge_records.push((sim.time_s, values));
-        series.push(m);
+        gauge_records.push((sim.time_s, frame.gauges));
+        series.push(frame.integrals);
         logging_ms.push(t0.elapsed().as_secs_f64() * 1e3);
         Ok(())
     };
@@ -186,15 +157,16 @@ pub fn run(case: &Case, opts: &RunOptions) -> Result<RunOutcome, RunError> {
     }
     if let Some(rrd) = rrd.as_mut() {
         if status != "ok" {
-            let _ = rrd.log_text(sim.time_s, "events", &status);
+            let _ = rrd.log_stop(sim.time_s, &status);
         }
+        let logger = rrd.logger();
         if let Some(s) = &surf_summary {
-            log_profiles(rrd, s);
+            log_profiles(logger, s);
         }
         let height = case.wavemaker.as_ref().map_or(0.0, |w| w.height_m);
-        surf.log_space_time(rrd, height, rrd.scale());
+        surf.log_space_time(logger, height, logger.scale());
         if surf.active() {
-            let _ = rrd.add_surf_views();
+            let _ = logger.add_surf_views();
         }
         rrd.flush();
     }
@@ -220,23 +192,6 @@ pub fn run(case: &Case, opts: &RunOptions) -> Result<RunOutcome, RunError> {
     })
 }
 
-/// The gauge readings of `sim`, in the order of [`gauge_columns`]: η at each elevation gauge,
-/// then (u, w) at each velocity probe; `None` where dry.
-pub fn gauge_values(sim: &Simulation) -> Vec<Option<f64>> {
-    let out = &sim.case.output;
-    let mut values: Vec<Option<f64>> = out
-        .gauges_x_m
-        .iter()
-        .map(|&x| diagnostics::surface_elevation(sim, x))
-        .collect();
-    for [x, y] in &out.probes_m {
-        let u = diagnostics::velocity_at(sim, nalgebra::Vector2::new(*x, *y));
-        values.push(u.map(|u| u.x));
-        values.push(u.map(|u| u.y));
-    }
-    values
-}
-
 /// Wave height and period at each elevation gauge over the last (up to) five whole waves,
 /// counted after the paddle's ramp (or over the whole record without a wavemaker).
 fn gauge_summary(case: &Case, records: &[(f64, Vec<Option<f64>>)]) -> Vec<GaugeSummary> {
@@ -259,53 +214,9 @@ fn gauge_summary(case: &Case, records: &[(f64, Vec<Option<f64>>)]) -> Vec<GaugeS
         .collect()
 }
 
-/// Logs one frame of `sim` with the integrals `m`, the stage timings of the last step and the
-/// gauge readings (`(column name, value)`; dry ones are skipped).
-pub fn log_frame(
-    rrd: &mut RrdLogger,
-    sim: &Simulation,
-    m: &Integrals,
-    last: Option<&StageTimings>,
-    gauges: &[(&str, Option<f64>)],
-    with_mesh: bool,
-) -> Result<(), String> {
-    let p = &sim.particles;
-    let is_fluid: Vec<bool> = (0..p.len()).map(|i| p.is_fluid(i)).collect();
-    let mut scalars: Vec<(String, f64)> = vec![
-        ("volume_m2".into(), m.volume_m2),
-        ("volume_ratio".into(), m.volume_m2 / sim.initial_volume_m2),
-        ("kinetic_energy_j_per_m".into(), m.kinetic_energy_j_per_m),
-        ("max_speed_m_s".into(), m.max_speed_m_s),
-        ("front_x_m".into(), m.front_x_m),
-    ];
-    if let Some(t) = last {
-        scalars.extend(
-            t.named()
-                .iter()
-                .map(|(name, ms)| (format!("timing_ms/{name}"), *ms)),
-        );
-    }
-    scalars.extend(
-        gauges
-            .iter()
-            .filter_map(|(name, v)| v.map(|v| (format!("gauges/{name}"), v))),
-    );
-    let named: Vec<(&str, f64)> = scalars.iter().map(|(k, v)| (k.as_str(), *v)).collect();
-    let frame = FrameView {
-        t_s: sim.time_s,
-        positions: &p.position,
-        velocities: &p.velocity,
-        is_fluid: &is_fluid,
-        boundary_edges: &sim.solver.mesh.boundary_edges,
-        triangles: with_mesh.then_some(sim.solver.mesh.triangles.as_slice()),
-        scalars: &named,
-    };
-    rrd.log_frame(&frame).map_err(|e| e.to_string())
-}
-
 /// What the run loop measured, step by step.
 struct Measured {
-    timings: Vec<StageTimings>,
+    timings: StageStats,
     logging_ms: Vec<f64>,
     iterations: Vec<f64>,
     particle_steps: f64,
@@ -313,21 +224,14 @@ struct Measured {
 }
 
 fn summarize(sim: &Simulation, series: &[Integrals], m: &Measured, status: String) -> Summary {
-    let (timings, wall_s) = (&m.timings, m.wall_s);
+    let wall_s = m.wall_s;
     let v0 = sim.initial_volume_m2;
     let drift = series
         .iter()
         .map(|m| (m.volume_m2 / v0 - 1.0).abs())
         .fold(0.0, f64::max);
-    let mut stages = std::collections::BTreeMap::new();
-    if !timings.is_empty() {
-        for (k, (name, _)) in timings[0].named().iter().enumerate() {
-            let v: Vec<f64> = timings.iter().map(|t| t.named()[k].1).collect();
-            stages.insert(name.to_string(), median(&v));
-        }
-    }
+    let mut stages = m.timings.stage_medians();
     stages.insert("logging_per_output".into(), median(&m.logging_ms));
-    let totals: Vec<f64> = timings.iter().map(StageTimings::total_ms).collect();
     let n = sim.particles.len();
     let fluid = sim.particles.fluid_count();
     Summary {
@@ -341,7 +245,7 @@ fn summarize(sim: &Simulation, series: &[Integrals], m: &Measured, status: Strin
         wall_s,
         real_time_factor: sim.time_s / wall_s.max(1e-9),
         particle_steps_per_s: m.particle_steps / wall_s.max(1e-9),
-        median_ms_per_step: median(&totals),
+        median_ms_per_step: m.timings.median_total_ms(),
         median_stage_ms: stages,
         median_pressure_iterations: median(&m.iterations),
         initial_volume_m2: v0,

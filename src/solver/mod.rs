@@ -136,61 +136,103 @@ impl SolverParams {
     }
 }
 
-/// Wall-clock milliseconds spent in each stage of one step.
-#[derive(Debug, Clone, Copy, Default, serde::Serialize)]
-pub struct StageTimings {
-    /// Node insertion and removal before the remesh.
-    pub nodes_ms: f64,
+/// The stages of a step, in the order they run (see `step.rs`); each has one timer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Stage {
+    /// Node insertion, removal and merging before the remesh.
+    Nodes,
     /// Delaunay triangulation of all nodes (spade).
-    pub remesh_ms: f64,
+    Remesh,
     /// α-shape, all-wall filter, free surface.
-    pub alpha_shape_ms: f64,
+    AlphaShape,
+    /// The per-strip water-area ledger, when on: booking the remesh and the move, and the
+    /// divergence targets that pay it back.
+    Relax,
     /// Element geometry, lumped mass, Smagorinsky viscosity, τ.
-    pub elements_ms: f64,
+    Elements,
     /// Momentum predictor ũ.
-    pub predict_ms: f64,
-    /// Pressure matrix and right-hand side.
-    pub assemble_ms: f64,
+    Predict,
+    /// The pressure system: its pattern (right after the α-shape) and its values.
+    Assemble,
     /// Pressure linear solve.
-    pub pressure_solve_ms: f64,
+    PressureSolve,
     /// Velocity correction and pressure-gradient projection.
-    pub correct_ms: f64,
-    /// Particle motion and wall guard (and the volume recovery, when on).
-    pub move_ms: f64,
+    Correct,
+    /// The fourth-difference filter of the surface velocities, when on.
+    Filter,
+    /// Particle motion and wall guard.
+    Move,
+    /// The global volume recovery on the free surface, when on.
+    Recover,
+}
+
+impl Stage {
+    pub const ALL: [Stage; 12] = [
+        Stage::Nodes,
+        Stage::Remesh,
+        Stage::AlphaShape,
+        Stage::Relax,
+        Stage::Elements,
+        Stage::Predict,
+        Stage::Assemble,
+        Stage::PressureSolve,
+        Stage::Correct,
+        Stage::Filter,
+        Stage::Move,
+        Stage::Recover,
+    ];
+
+    /// The name in outputs (`timing_ms/<name>`, `median_stage_ms`, `surflab bench`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Stage::Nodes => "nodes",
+            Stage::Remesh => "remesh",
+            Stage::AlphaShape => "alpha_shape",
+            Stage::Relax => "relax",
+            Stage::Elements => "elements",
+            Stage::Predict => "predict",
+            Stage::Assemble => "assemble",
+            Stage::PressureSolve => "pressure_solve",
+            Stage::Correct => "correct",
+            Stage::Filter => "filter",
+            Stage::Move => "move",
+            Stage::Recover => "recover",
+        }
+    }
+}
+
+/// Wall-clock milliseconds spent in each stage of one step (or summed over several).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct StageTimings {
+    ms: [f64; Stage::ALL.len()],
 }
 
 impl StageTimings {
+    /// Runs `f` and adds its wall time to `stage`.
+    pub fn time<T>(&mut self, stage: Stage, f: impl FnOnce() -> T) -> T {
+        let start = std::time::Instant::now();
+        let out = f();
+        self.ms[stage as usize] += start.elapsed().as_secs_f64() * 1e3;
+        out
+    }
+
+    pub fn ms(&self, stage: Stage) -> f64 {
+        self.ms[stage as usize]
+    }
+
     /// (name, ms) pairs in step order.
-    pub fn named(&self) -> [(&'static str, f64); 9] {
-        [
-            ("nodes", self.nodes_ms),
-            ("remesh", self.remesh_ms),
-            ("alpha_shape", self.alpha_shape_ms),
-            ("elements", self.elements_ms),
-            ("predict", self.predict_ms),
-            ("assemble", self.assemble_ms),
-            ("pressure_solve", self.pressure_solve_ms),
-            ("correct", self.correct_ms),
-            ("move", self.move_ms),
-        ]
+    pub fn named(&self) -> [(&'static str, f64); Stage::ALL.len()] {
+        Stage::ALL.map(|s| (s.name(), self.ms(s)))
     }
 
     pub fn total_ms(&self) -> f64 {
-        self.named().iter().map(|(_, v)| v).sum()
+        self.ms.iter().sum()
     }
 
     /// Stage by stage, `f(self, other)` (for sums and means over steps).
     pub fn zip_with(&self, other: &StageTimings, f: impl Fn(f64, f64) -> f64) -> StageTimings {
         StageTimings {
-            nodes_ms: f(self.nodes_ms, other.nodes_ms),
-            remesh_ms: f(self.remesh_ms, other.remesh_ms),
-            alpha_shape_ms: f(self.alpha_shape_ms, other.alpha_shape_ms),
-            elements_ms: f(self.elements_ms, other.elements_ms),
-            predict_ms: f(self.predict_ms, other.predict_ms),
-            assemble_ms: f(self.assemble_ms, other.assemble_ms),
-            pressure_solve_ms: f(self.pressure_solve_ms, other.pressure_solve_ms),
-            correct_ms: f(self.correct_ms, other.correct_ms),
-            move_ms: f(self.move_ms, other.move_ms),
+            ms: std::array::from_fn(|k| f(self.ms[k], other.ms[k])),
         }
     }
 }
@@ -305,6 +347,20 @@ impl Solver {
             params,
             ..Default::default()
         }
+    }
+
+    /// Takes the parameters of a changed case (α, and whatever else the case now says) from the
+    /// next step on: the same derivation as at the start, [`SolverParams::from_case`]. Changes
+    /// of the flume or the spacing need a new simulation instead. The thread setting is kept.
+    pub fn retune(&mut self, case: &Case) {
+        let two_threads = self.params.two_threads;
+        self.params = SolverParams::from_case(case);
+        self.params.two_threads = two_threads;
+    }
+
+    /// Work on one core only (the lab leaves the other to the window).
+    pub fn use_one_core(&mut self) {
+        self.params.two_threads = false;
     }
 
     /// The pressure system of the last step (for the solver comparison in `bench`).
