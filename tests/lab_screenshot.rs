@@ -5,6 +5,8 @@
 //! window falls under 22, see `lab::worker`).
 #![cfg(feature = "lab")]
 
+mod common;
+
 use std::process::Command;
 
 #[test]
@@ -54,27 +56,15 @@ fn the_real_window_saves_a_screenshot_that_is_not_blank() {
         .unwrap_or_else(|| panic!("no frame rate in the output:\n{stderr}"));
     println!("window: {fps:.1} frames/s while the solver ran");
     assert!(fps >= 20.0, "the window drew {fps:.1} frames/s (bar 20)");
-    let img = image::open(&out)
-        .unwrap_or_else(|e| panic!("{}: {e}", out.display()))
-        .to_rgba8();
-    let (w, h) = img.dimensions();
-    let mut colors = std::collections::HashSet::new();
-    let (mut sum, mut sum2) = (0.0f64, 0.0f64);
-    for p in img.pixels() {
-        colors.insert(p.0);
-        let l = 0.299 * p.0[0] as f64 + 0.587 * p.0[1] as f64 + 0.114 * p.0[2] as f64;
-        sum += l;
-        sum2 += l * l;
-    }
-    let n = (w * h) as f64;
-    let std = (sum2 / n - (sum / n).powi(2)).max(0.0).sqrt();
+    let (w, h) = image::image_dimensions(&out).unwrap_or_else(|e| panic!("{}: {e}", out.display()));
+    let (colors, std) = common::screenshot_contrast(&out);
     println!(
         "screenshot {w}×{h}: {} distinct colours, luminance std {std:.1}",
-        colors.len()
+        colors
     );
     assert!(w >= 800 && h >= 500, "window too small: {w}×{h}");
     // A blank or single-colour window has a handful of colours and no contrast; the viewer
     // with the panel and coloured particles has hundreds and a luminance spread of tens.
-    assert!(colors.len() >= 200, "only {} colours", colors.len());
+    assert!(colors >= 200, "only {colors} colours");
     assert!(std >= 10.0, "luminance std {std:.1}");
 }

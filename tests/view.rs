@@ -4,7 +4,10 @@
 //! viewer must report the run's entities (under each run's name when merged).
 #![cfg(feature = "lab")]
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use common::screenshot_contrast as contrast;
+use std::path::PathBuf;
 use std::process::Command;
 
 const TANK: &str = "[flume]\nlength_m = 1.0\nheight_m = 0.7\n[[water]]\nx_end_m = 0.5\n\
@@ -27,23 +30,6 @@ fn surflab(args: &[&str], window: bool) -> (bool, String) {
     let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
     println!("surflab {} → {}\n{stderr}", args.join(" "), out.status);
     (out.status.success(), stderr)
-}
-
-/// Distinct colours and the luminance spread of a PNG.
-fn contrast(path: &Path) -> (usize, f64) {
-    let img = image::open(path)
-        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-        .to_rgba8();
-    let mut colors = std::collections::HashSet::new();
-    let (mut sum, mut sum2) = (0.0f64, 0.0f64);
-    for p in img.pixels() {
-        colors.insert(p.0);
-        let l = 0.299 * p.0[0] as f64 + 0.587 * p.0[1] as f64 + 0.114 * p.0[2] as f64;
-        sum += l;
-        sum2 += l * l;
-    }
-    let n = f64::from(img.width() * img.height());
-    (colors.len(), (sum2 / n - (sum / n).powi(2)).max(0.0).sqrt())
 }
 
 #[test]

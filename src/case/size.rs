@@ -114,9 +114,9 @@ impl Case {
                     "h = {} m in a {} × {} m flume would seed about {:.3e} nodes ({:.3e} fluid, \
                      {:.3e} wall); the limit is {limit} (raise it with --max-particles on a \
                      bigger machine)",
-                    self.particles.spacing_m,
-                    self.flume.length_m,
-                    self.flume.height_m,
+                    short(self.particles.spacing_m),
+                    short(self.flume.length_m),
+                    short(self.flume.height_m),
                     e.nodes(),
                     e.fluid,
                     e.walls
@@ -128,7 +128,9 @@ impl Case {
                 "output.interval_s".to_owned(),
                 format!(
                     "{} s to t = {} s is {:.3e} frames; the limit is {MAX_FRAMES:.0e}",
-                    self.output.interval_s, self.time.end_s, e.frames
+                    short(self.output.interval_s),
+                    short(self.time.end_s),
+                    e.frames
                 ),
             ));
         }
@@ -138,11 +140,23 @@ impl Case {
                 format!(
                     "{} s at Δt ≤ time.dt_max_s = {} s is at least {:.3e} steps; the limit is \
                      {MAX_STEPS:.0e}",
-                    self.time.end_s, self.time.dt_max_s, e.min_steps
+                    short(self.time.end_s),
+                    short(self.time.dt_max_s),
+                    e.min_steps
                 ),
             ));
         }
         Ok(())
+    }
+}
+
+/// A number as a person writes it: plain in the usual range, in exponent form outside it (a
+/// plain 1e300 would print three hundred digits).
+fn short(v: f64) -> String {
+    if v == 0.0 || (1e-4..1e9).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
     }
 }
 
@@ -185,6 +199,11 @@ mod tests {
             "{e}"
         );
         let e = case(&["time.end_s=1e300"]).unwrap_err();
+        assert!(
+            e.contains("output.interval_s") && e.contains("1e300 s"),
+            "{e}"
+        );
+        let e = case(&["time.end_s=1e12", "output.interval_s=1e7"]).unwrap_err();
         assert!(e.contains("time.end_s") && e.contains("steps"), "{e}");
     }
 }

@@ -7,8 +7,17 @@
 //! `sim_time` timeline side by side. Every file is decoded before the window opens, so a missing
 //! or corrupt file is an error that names it.
 
-use super::window::{ShotOutcome, install_crash_handler, save_screenshot, setup_renderer};
+use super::window::{
+    ShotOutcome, embedded_viewer, install_crash_handler, save_screenshot, tokio_runtime,
+    window_options,
+};
+use crate::output::rrd::SIM_TIMELINE;
 use anyhow::{Context, Result, bail};
+use rerun::blueprint::components::PanelState;
+use rerun::blueprint::{
+    Blueprint, BlueprintActivation, BlueprintPanel, Horizontal, SelectionPanel, Spatial2DView,
+    TimePanel, TimeSeriesView, Vertical,
+};
 use rerun::external::re_log_channel::{self, LogSource};
 use rerun::external::re_log_encoding::DecoderApp;
 use rerun::external::re_viewer;
@@ -91,6 +100,26 @@ fn chunks_under(name: &str, messages: &[LogMsg]) -> Result<Vec<Chunk>> {
     Ok(chunks)
 }
 
+/// The layout of merged runs: their flumes one above the other on the shared timeline, and
+/// below them each run's diagnostics (volume, energy, front) side by side.
+fn side_by_side(names: &[String]) -> Blueprint {
+    let flumes = Vertical::new(names.iter().map(|n| {
+        Spatial2DView::new(n)
+            .with_origin(format!("/{n}"))
+            .with_contents([format!("/{n}/world/**")])
+            .into()
+    }));
+    let plots = Horizontal::new(names.iter().map(|n| {
+        TimeSeriesView::new(format!("{n}: diagnostics"))
+            .with_origin(format!("/{n}/scalars/diagnostics"))
+            .into()
+    }));
+    Blueprint::new(Vertical::new([flumes.into(), plots.into()]).with_row_shares([3.0, 1.0]))
+        .with_blueprint_panel(BlueprintPanel::new().with_state(PanelState::Collapsed))
+        .with_selection_panel(SelectionPanel::new().with_state(PanelState::Collapsed))
+        .with_time_panel(TimePanel::new().with_timeline(SIM_TIMELINE))
+}
+
 /// Opens the viewer on the recordings and blocks until the window is closed.
 pub fn view(opts: ViewOptions) -> Result<()> {
     if opts.files.is_empty() {
@@ -105,10 +134,7 @@ pub fn view(opts: ViewOptions) -> Result<()> {
         });
     }
     install_crash_handler();
-    let runtime = tokio::runtime::Builder::new_multi_thread()
-        .worker_threads(1)
-        .enable_all()
-        .build()?;
+    let runtime = tokio_runtime()?;
     let (tx, rx) = re_log_channel::log_channel(LogSource::Sdk);
     if let [one] = recordings.as_slice() {
         for m in &one.messages {
@@ -129,6 +155,9 @@ pub fn view(opts: ViewOptions) -> Result<()> {
         for r in &recordings {
             rec.send_chunks(chunks_under(&r.name, &r.messages)?);
         }
+        side_by_side(&names)
+            .send(&rec, BlueprintActivation::default())
+            .context("laying out the merged recording")?;
         rec.flush_blocking().context("merging the recordings")?;
     }
     eprintln!(
@@ -142,32 +171,12 @@ pub fn view(opts: ViewOptions) -> Result<()> {
         }
     );
 
-    let mut native = re_viewer::native::eframe_options(None);
-    native.viewport = native
-        .viewport
-        .with_title("surflab view")
-        .with_inner_size([1280.0, 800.0]);
     let screenshot = opts.screenshot.clone();
-    native.persist_window = screenshot.is_none();
     eframe::run_native(
         "surflab view",
-        native,
+        window_options("surflab view", screenshot.is_some()),
         Box::new(move |cc| {
-            setup_renderer(cc)?;
-            let startup = re_viewer::StartupOptions {
-                hide_welcome_screen: true,
-                persist_state: screenshot.is_none(),
-                ..Default::default()
-            };
-            let mut app = re_viewer::App::new(
-                re_viewer::MainThreadToken::i_promise_i_am_on_the_main_thread(),
-                re_viewer::build_info(),
-                re_viewer::AppEnvironment::Custom("surflab".into()),
-                startup,
-                cc,
-                None,
-                re_viewer::AsyncRuntimeHandle::new_native(runtime.handle().clone()),
-            );
+            let mut app = embedded_viewer(cc, &runtime, screenshot.is_some())?;
             app.add_log_receiver(rx);
             Ok(Box::new(ViewApp {
                 viewer: app,

@@ -104,37 +104,16 @@ pub fn run(opts: LabOptions) -> anyhow::Result<()> {
         vec![sink]
     });
 
-    let mut native = re_viewer::native::eframe_options(None);
-    native.viewport = native
-        .viewport
-        .with_title("surflab")
-        .with_inner_size([1280.0, 800.0]);
     let screenshot = opts.screenshot.clone();
     let screenshot_mode = screenshot.is_some();
-    native.persist_window = !screenshot_mode;
     let after = opts.screenshot_after_s;
     let record_path = opts.record_path.clone();
     let autorun = true;
     eframe::run_native(
         "surflab",
-        native,
+        window_options("surflab", screenshot_mode),
         Box::new(move |cc| {
-            setup_renderer(cc)?;
-            let startup = re_viewer::StartupOptions {
-                hide_welcome_screen: true,
-                // A screenshot starts from the defaults, whatever an earlier window saved.
-                persist_state: !screenshot_mode,
-                ..Default::default()
-            };
-            let mut app = re_viewer::App::new(
-                re_viewer::MainThreadToken::i_promise_i_am_on_the_main_thread(),
-                re_viewer::build_info(),
-                re_viewer::AppEnvironment::Custom("surflab".into()),
-                startup,
-                cc,
-                None,
-                re_viewer::AsyncRuntimeHandle::new_native(runtime.handle().clone()),
-            );
+            let mut app = embedded_viewer(cc, &runtime, screenshot_mode)?;
             app.add_log_receiver(rx);
             let panel = Panel::new(presets, start, sinks, record_path, autorun)
                 .map_err(|e| anyhow::anyhow!(e))?;
@@ -156,6 +135,42 @@ pub fn run(opts: LabOptions) -> anyhow::Result<()> {
     .map_err(|e| anyhow::anyhow!("the window failed: {e}"))
 }
 
+/// The eframe options of a viewer window titled `title`; a screenshot run does not save the
+/// window's size and place.
+pub(super) fn window_options(title: &str, screenshot_mode: bool) -> eframe::NativeOptions {
+    let mut native = re_viewer::native::eframe_options(None);
+    native.viewport = native
+        .viewport
+        .with_title(title)
+        .with_inner_size([1280.0, 800.0]);
+    native.persist_window = !screenshot_mode;
+    native
+}
+
+/// The Rerun viewer inside an eframe window being created. A screenshot run starts from the
+/// viewer's defaults, whatever an earlier window saved.
+pub(super) fn embedded_viewer(
+    cc: &eframe::CreationContext<'_>,
+    runtime: &tokio::runtime::Runtime,
+    screenshot_mode: bool,
+) -> Result<re_viewer::App, Box<dyn std::error::Error + Send + Sync>> {
+    setup_renderer(cc)?;
+    let startup = re_viewer::StartupOptions {
+        hide_welcome_screen: true,
+        persist_state: !screenshot_mode,
+        ..Default::default()
+    };
+    Ok(re_viewer::App::new(
+        re_viewer::MainThreadToken::i_promise_i_am_on_the_main_thread(),
+        re_viewer::build_info(),
+        re_viewer::AppEnvironment::Custom("surflab".into()),
+        startup,
+        cc,
+        None,
+        re_viewer::AsyncRuntimeHandle::new_native(runtime.handle().clone()),
+    ))
+}
+
 pub(super) fn install_crash_handler() {
     rerun::external::re_crash_handler::install_crash_handlers(re_viewer::build_info());
 }
@@ -164,7 +179,7 @@ pub(super) fn install_crash_handler() {
 /// rasterizer (lavapipe, llvmpipe: no GPU) the flume view renders without 4× multisampling.
 /// There the rasterizer threads take most of the window's CPU time, and every sample of the
 /// 2D view is shaded on the CPU.
-pub(super) fn setup_renderer(
+fn setup_renderer(
     cc: &eframe::CreationContext<'_>,
 ) -> Result<(), re_viewer::external::re_renderer::RenderContextError> {
     use re_viewer::external::re_renderer::{MsaaMode, RenderConfig, RenderContext};
@@ -189,7 +204,7 @@ pub(super) fn setup_renderer(
     Ok(())
 }
 
-fn tokio_runtime() -> anyhow::Result<tokio::runtime::Runtime> {
+pub(super) fn tokio_runtime() -> anyhow::Result<tokio::runtime::Runtime> {
     Ok(tokio::runtime::Builder::new_multi_thread()
         .worker_threads(1)
         .enable_all()

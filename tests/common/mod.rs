@@ -71,3 +71,22 @@ pub fn rrd_messages(path: &Path) -> Result<usize, String> {
     }
     Ok(count)
 }
+
+/// Distinct colours and the luminance standard deviation of a PNG screenshot: a blank or
+/// single-colour window has a handful of colours and no contrast.
+#[cfg(feature = "lab")]
+pub fn screenshot_contrast(path: &Path) -> (usize, f64) {
+    let img = image::open(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .to_rgba8();
+    let mut colors = std::collections::HashSet::new();
+    let (mut sum, mut sum2) = (0.0f64, 0.0f64);
+    for p in img.pixels() {
+        colors.insert(p.0);
+        let l = 0.299 * p.0[0] as f64 + 0.587 * p.0[1] as f64 + 0.114 * p.0[2] as f64;
+        sum += l;
+        sum2 += l * l;
+    }
+    let n = f64::from(img.width() * img.height());
+    (colors.len(), (sum2 / n - (sum / n).powi(2)).max(0.0).sqrt())
+}
