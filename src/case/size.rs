@@ -9,10 +9,10 @@
 use super::Case;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-/// Default ceiling on fluid particles plus wall and paddle nodes. The solver holds about
-/// 2.3 KB per node at its peak (measured with the sparse Cholesky factor of the pressure at
-/// 50 000 nodes), so 2 million nodes is about 5 GB, a fifth of a 24 GiB machine; at the
-/// measured ~0.4 million particle-steps/s one step would take about 5 s.
+/// Default ceiling on fluid particles plus wall and paddle nodes. Measured with `surflab bench`
+/// on the still tank, the process holds about 1.7 KB more per node (peak 144 MB at 20 381
+/// nodes, 247 MB at 80 761), so 2 million nodes need about 3.5 GB, a seventh of a 24 GiB
+/// machine; a step took 0.53 s at 80 761 nodes, so one at the ceiling takes ten seconds or more.
 pub const DEFAULT_MAX_NODES: usize = 2_000_000;
 
 /// Ceiling on recorded frames (`time.end_s / output.interval_s`): every frame keeps a row of
