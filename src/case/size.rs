@@ -98,7 +98,7 @@ impl Case {
     pub(super) fn validate_size(&self) -> Result<(), (String, String)> {
         let e = self.size_estimate();
         let limit = max_nodes();
-        if !(e.nodes() <= limit as f64) {
+        if !within(e.nodes(), limit as f64) {
             // Name the field that makes the count: the spacing when the water does, else the
             // flume's longer side (the walls are what a huge flume fills).
             let field = if e.fluid >= e.walls {
@@ -123,7 +123,7 @@ impl Case {
                 ),
             ));
         }
-        if !(e.frames <= MAX_FRAMES) {
+        if !within(e.frames, MAX_FRAMES) {
             return Err((
                 "output.interval_s".to_owned(),
                 format!(
@@ -134,7 +134,7 @@ impl Case {
                 ),
             ));
         }
-        if !(e.min_steps <= MAX_STEPS) {
+        if !within(e.min_steps, MAX_STEPS) {
             return Err((
                 "time.end_s".to_owned(),
                 format!(
@@ -148,6 +148,11 @@ impl Case {
         }
         Ok(())
     }
+}
+
+/// `v ≤ limit`, false for NaN (an estimate that is not a number is refused too).
+fn within(v: f64, limit: f64) -> bool {
+    v <= limit
 }
 
 /// A number as a person writes it: plain in the usual range, in exponent form outside it (a
