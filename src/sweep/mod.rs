@@ -1,0 +1,96 @@
+//! `surflab sweep`: one case run over the product of `--vary` lists, one run directory per
+//! point, and the rows gathered into `sweep.csv`, `sweep.json`, the breaker-type map
+//! (`breaker_map.svg`, `.png`) and `sweep.rrd`. Resumable (a run directory holding a
+//! `summary.json` is not run again) and shardable (`--shard I/N`) over machines sharing the
+//! sweep's directory; `--collect DIR` rebuilds the outputs from the run directories alone.
+//! See docs/sweep.md.
+
+pub mod spec;
+
+use crate::case::CaseError;
+use serde::{Deserialize, Serialize};
+use spec::{Point, VaryAxis};
+use std::path::{Path, PathBuf};
+
+/// Everything that stops a sweep before or after its runs (a failing run is a row, not an
+/// error).
+#[derive(Debug, thiserror::Error)]
+pub enum SweepError {
+    #[error("--vary {given}: {message}")]
+    BadVary { given: String, message: String },
+    #[error("--vary {key}: bad range `{range}`: {message}")]
+    BadRange {
+        key: String,
+        range: String,
+        message: String,
+    },
+    #[error("{what} has {points} points, more than {max}", max = spec::MAX_POINTS)]
+    TooManyPoints { what: String, points: usize },
+    #[error("--vary {key}: `{key}` is not a field of the case {file}: {message}")]
+    BadKey {
+        key: String,
+        file: PathBuf,
+        message: String,
+    },
+    #[error("--shard {given}: {message}")]
+    BadShard { given: String, message: String },
+    #[error("--until must be a positive number of seconds, got {0}")]
+    BadUntil(f64),
+    #[error("--jobs must be at least 1")]
+    NoJobs,
+    #[error(transparent)]
+    Case(#[from] CaseError),
+    #[error("{path}: {source}")]
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("{path}: {message}")]
+    Unreadable { path: PathBuf, message: String },
+    #[error(
+        "{path} describes another sweep ({what} differ); choose another --out, or delete it to start over"
+    )]
+    Mismatch { path: PathBuf, what: String },
+    #[error("{path}: {message}")]
+    Output { path: PathBuf, message: String },
+}
+
+fn io_error(path: &Path) -> impl FnOnce(std::io::Error) -> SweepError + '_ {
+    move |source| SweepError::Io {
+        path: path.to_owned(),
+        source,
+    }
+}
+
+/// What a sweep is: enough to rebuild its points and to tell it from another sweep.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SweepSpec {
+    /// The case file, as given on the command line.
+    pub case: PathBuf,
+    pub case_name: String,
+    pub vary: Vec<VaryAxis>,
+    /// The `--set` overrides every point shares.
+    pub set: Vec<String>,
+    /// `--until`: the simulated end time of every run, s (the case's `time.end_s` if null).
+    pub until_s: Option<f64>,
+}
+
+impl SweepSpec {
+    pub fn keys(&self) -> Vec<String> {
+        self.vary.iter().map(|a| a.key.clone()).collect()
+    }
+
+    pub fn points(&self) -> Result<Vec<Point>, SweepError> {
+        spec::points(&self.vary)
+    }
+
+    /// The overrides of one point's run: the shared sets, `time.end_s`, then the point's.
+    pub fn overrides(&self, point: &Point) -> Vec<String> {
+        let mut o = self.set.clone();
+        if let Some(t) = self.until_s {
+            o.push(format!("time.end_s={t}"));
+        }
+        o.extend(point.overrides.iter().cloned());
+        o
+    }
+}
