@@ -5,12 +5,15 @@
 //! sweep's directory; `--collect DIR` rebuilds the outputs from the run directories alone.
 //! See docs/sweep.md.
 
+pub mod reflection;
 pub mod spec;
+pub mod table;
 
 use crate::case::CaseError;
 use serde::{Deserialize, Serialize};
 use spec::{Point, VaryAxis};
 use std::path::{Path, PathBuf};
+use table::Row;
 
 /// Everything that stops a sweep before or after its runs (a failing run is a row, not an
 /// error).
@@ -93,4 +96,57 @@ impl SweepSpec {
         o.extend(point.overrides.iter().cloned());
         o
     }
+}
+
+/// `sweep.json`: the spec and one object per point.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+struct SweepFile {
+    #[serde(flatten)]
+    spec: SweepSpec,
+    points: Vec<Row>,
+}
+
+pub const SPEC_FILE: &str = "sweep.json";
+
+/// Reads the spec of the sweep in `dir`.
+pub fn read_spec(dir: &Path) -> Result<SweepSpec, SweepError> {
+    let path = dir.join(SPEC_FILE);
+    let text = std::fs::read_to_string(&path).map_err(io_error(&path))?;
+    let file: SweepFile = serde_json::from_str(&text).map_err(|e| SweepError::Unreadable {
+        path: path.clone(),
+        message: format!("not a sweep's {SPEC_FILE}: {e}"),
+    })?;
+    Ok(file.spec)
+}
+
+/// Writes `sweep.json` with `rows` (a new sweep's rows are all `not run`).
+fn write_spec(dir: &Path, spec: &SweepSpec, rows: &[Row]) -> Result<(), SweepError> {
+    let file = SweepFile {
+        spec: spec.clone(),
+        points: rows.to_vec(),
+    };
+    let path = dir.join(SPEC_FILE);
+    let text = serde_json::to_string_pretty(&file).map_err(|e| SweepError::Output {
+        path: path.clone(),
+        message: e.to_string(),
+    })?;
+    write_atomically(&path, (text + "\n").as_bytes())
+}
+
+/// Writes through a temporary file renamed into place, so that shards finishing together on a
+/// shared file system never leave a half-written file.
+fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), SweepError> {
+    let tmp = temporary_beside(path);
+    std::fs::write(&tmp, bytes).map_err(io_error(&tmp))?;
+    std::fs::rename(&tmp, path).map_err(io_error(path))
+}
+
+fn temporary_beside(path: &Path) -> PathBuf {
+    let nanos = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.subsec_nanos());
+    let name = path
+        .file_name()
+        .map_or_else(|| "out".into(), |n| n.to_string_lossy().into_owned());
+    path.with_file_name(format!(".{name}.{}.{nanos}.tmp", std::process::id()))
 }
