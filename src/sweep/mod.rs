@@ -5,6 +5,8 @@
 //! sweep's directory; `--collect DIR` rebuilds the outputs from the run directories alone.
 //! See docs/sweep.md.
 
+pub mod figure;
+mod record;
 pub mod reflection;
 pub mod spec;
 pub mod table;
@@ -149,4 +151,50 @@ fn temporary_beside(path: &Path) -> PathBuf {
         .file_name()
         .map_or_else(|| "out".into(), |n| n.to_string_lossy().into_owned());
     path.with_file_name(format!(".{name}.{}.{nanos}.tmp", std::process::id()))
+}
+
+/// The outputs rebuilt from the run directories.
+pub struct Collected {
+    pub rows: Vec<Row>,
+    pub written: Vec<PathBuf>,
+}
+
+/// Rebuilds `sweep.csv`, the rows of `sweep.json`, the map and `sweep.rrd` in `dir` from its
+/// run directories and the spec, running nothing.
+pub fn collect(dir: &Path) -> Result<Collected, SweepError> {
+    let spec = read_spec(dir)?;
+    collect_with(dir, &spec)
+}
+
+fn collect_with(dir: &Path, spec: &SweepSpec) -> Result<Collected, SweepError> {
+    let rows: Vec<Row> = spec
+        .points()?
+        .iter()
+        .map(|p| table::read_row(p, &dir.join(&p.dir_name)))
+        .collect();
+    let keys = spec.keys();
+    let mut written = Vec::new();
+    let csv = dir.join("sweep.csv");
+    write_atomically(&csv, table::csv(&keys, &rows).as_bytes())?;
+    written.push(csv);
+    write_spec(dir, spec, &rows)?;
+    written.push(dir.join(SPEC_FILE));
+    let output = |path: &Path| {
+        let path = path.to_owned();
+        move |message: String| SweepError::Output { path, message }
+    };
+    let svg = dir.join("breaker_map.svg");
+    let text = figure::svg(&spec.case_name, &rows).map_err(output(&svg))?;
+    write_atomically(&svg, text.as_bytes())?;
+    written.push(svg);
+    let png = dir.join("breaker_map.png");
+    let bytes = figure::png(&spec.case_name, &rows).map_err(output(&png))?;
+    write_atomically(&png, &bytes)?;
+    written.push(png);
+    let rrd = dir.join("sweep.rrd");
+    let tmp = temporary_beside(&rrd);
+    record::write(&tmp, &spec.case_name, &keys, &rows).map_err(output(&rrd))?;
+    std::fs::rename(&tmp, &rrd).map_err(io_error(&rrd))?;
+    written.push(rrd);
+    Ok(Collected { rows, written })
 }
