@@ -85,6 +85,9 @@ enum Command {
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
     },
+    /// Run a case over the product of --vary lists, one run directory per point; write
+    /// sweep.csv, sweep.json, the breaker-type map (PNG, SVG) and sweep.rrd (docs/sweep.md).
+    Sweep(surflab::sweep::SweepArgs),
     /// Time the step: ms per step by stage, particles and particle-steps per second.
     Bench {
         case: PathBuf,
@@ -123,6 +126,7 @@ fn main() {
             until,
             set,
         }) => cmd_validate(&case, from, out, until, &set),
+        Some(Command::Sweep(args)) => surflab::sweep::cli::main(args).map_err(Into::into),
         #[cfg(feature = "lab")]
         Some(Command::Lab {
             case,

@@ -5,9 +5,11 @@
 //! sweep's directory; `--collect DIR` rebuilds the outputs from the run directories alone.
 //! See docs/sweep.md.
 
+pub mod cli;
 pub mod figure;
 mod record;
 pub mod reflection;
+mod runner;
 pub mod spec;
 pub mod table;
 
@@ -16,6 +18,9 @@ use serde::{Deserialize, Serialize};
 use spec::{Point, VaryAxis};
 use std::path::{Path, PathBuf};
 use table::Row;
+
+pub use cli::SweepArgs;
+pub use runner::{SweepOptions, SweepOutcome, run_sweep};
 
 /// Everything that stops a sweep before or after its runs (a failing run is a row, not an
 /// error).
