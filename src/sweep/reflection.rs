@@ -7,7 +7,8 @@
 //! 0.05 < Δx/L < 0.45 are used (Goda & Suzuki's range), the one with the largest |sin kΔx|.
 //!
 //! The gauges must stand in water of the paddle's depth (the flat part of the flume, before the
-//! beach's toe), at least one depth from the paddle (its evanescent modes), and the record must
+//! beach's toe), at least one depth from the paddle and from the toe (the evanescent modes
+//! there), and the record must
 //! be long enough for the reflection to have come back: the ramp, then the way to the end of
 //! the flume and back to the gauges at the group velocity, then the three periods analysed.
 //! Otherwise there is no coefficient (an empty cell).
@@ -43,14 +44,16 @@ pub fn reflection(case: &Case, record: &GaugeRecord) -> Result<Reflection, Strin
     let omega = TAU / w.period_s;
     let kd = k * depth;
     let group_velocity = 0.5 * (omega / k) * (1.0 + 2.0 * kd / (2.0 * kd).sinh());
-    // Gauges in the paddle's depth, clear of the paddle.
+    // Gauges in the paddle's depth, clear of the paddle and of the beach's toe by a depth
+    // (the evanescent modes of either).
+    let paddle_depth = |x: f64| {
+        let d = case.still_level_at(x).unwrap_or(0.0) - case.bed_y_at(x);
+        (d - depth).abs() <= 0.01 * depth
+    };
     let flat: Vec<(f64, &[Option<f64>])> = record
         .elevation_gauges()
         .into_iter()
-        .filter(|(x, _)| {
-            let d = case.still_level_at(*x).unwrap_or(0.0) - case.bed_y_at(*x);
-            *x >= w.x_m + depth && (d - depth).abs() <= 0.01 * depth
-        })
+        .filter(|(x, _)| *x >= w.x_m + depth && paddle_depth(*x) && paddle_depth(*x + depth))
         .collect();
     if flat.len() < 2 {
         return Err("fewer than two gauges in the flat part of the flume".into());
@@ -134,7 +137,7 @@ mod tests {
                 })
                 .collect()
         };
-        let xs = [2.1, 4.1, 7.4];
+        let xs = [2.1, 4.1, 5.9, 7.4];
         let record = GaugeRecord {
             t_s: t.clone(),
             names: xs.iter().map(|x| format!("eta_{x:.3}")).collect(),
@@ -142,7 +145,7 @@ mod tests {
         };
         let r = reflection(&case, &record).unwrap();
         assert!((r.coefficient - kr).abs() < 1e-3, "{r:?}");
-        // 7.4 m is on the beach; only 2.1 and 4.1 are in the paddle's depth.
+        // 7.4 m is on the beach and 5.9 m at its toe; only 2.1 and 4.1 are clear of both.
         assert_eq!(r.gauges_x_m, [2.1, 4.1]);
         // Too short a record: no coefficient.
         let short = GaugeRecord {
