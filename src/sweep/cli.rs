@@ -53,8 +53,9 @@ pub fn main(args: SweepArgs) -> Result<(), SweepError> {
         let collected = collect(&dir)?;
         let ok = collected.rows.iter().filter(|r| r.ok()).count();
         eprintln!(
-            "surflab sweep: collected {} points ({ok} ok) from {}; wrote {}",
+            "surflab sweep: collected {} point{} ({ok} ok) from {}; wrote {}",
             collected.rows.len(),
+            if collected.rows.len() == 1 { "" } else { "s" },
             dir.display(),
             collected
                 .written

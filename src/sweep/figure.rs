@@ -83,7 +83,8 @@ fn panels(rows: &[Row]) -> Vec<Panel> {
         limits: DEEP_WATER_LIMITS,
         symbol: "ξ₀",
         points: deep,
-        x_min_max: 4.0,
+        // Room for the last band's name beyond ξ₀ = 3.3.
+        x_min_max: 4.5,
     }];
     if !at_breaking.is_empty() {
         out.push(Panel {

@@ -104,9 +104,10 @@ pub fn run_sweep(opts: &SweepOptions) -> Result<SweepOutcome, SweepError> {
     }
     let jobs = opts.jobs.min(todo.len()).max(1);
     eprintln!(
-        "surflab sweep: {} — {} points{}; {} finished before, {} to run in {} thread{}; output to {}",
+        "surflab sweep: {} — {} point{}{}; {} finished before, {} to run in {} thread{}; output to {}",
         spec.case_name,
         points.len(),
+        if points.len() == 1 { "" } else { "s" },
         if opts.shard.count > 1 {
             format!(
                 " (shard {}/{}: {} of them)",
