@@ -21,6 +21,7 @@ pub mod output;
 pub mod particles;
 pub mod simulation;
 pub mod solver;
+pub mod sweep;
 pub mod wavemaker;
 pub mod waves;
 

@@ -105,6 +105,9 @@ enum Command {
         #[arg(long, value_name = "PATH")]
         screenshot: Option<PathBuf>,
     },
+    /// Run a case over the product of --vary lists, one run directory per point; write
+    /// sweep.csv, sweep.json, the breaker-type map (PNG, SVG) and sweep.rrd (docs/sweep.md).
+    Sweep(surflab::sweep::SweepArgs),
     /// Time the step: ms per step by stage, particles and particle-steps per second.
     Bench {
         case: PathBuf,
@@ -149,6 +152,7 @@ fn main() {
         Some(Command::View { files, screenshot }) => {
             surflab::lab::view(surflab::lab::ViewOptions { files, screenshot })
         }
+        Some(Command::Sweep(args)) => surflab::sweep::cli::main(args).map_err(Into::into),
         #[cfg(feature = "lab")]
         Some(Command::Lab {
             case,
