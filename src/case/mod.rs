@@ -109,16 +109,6 @@ impl Default for SurfSettings {
     }
 }
 
-/// How the paddle moves.
-#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq)]
-#[serde(rename_all = "snake_case")]
-pub enum PaddleType {
-    /// A vertical plate translating along x.
-    Piston,
-    /// A plate hinged on the bed, rotating rigidly about the hinge.
-    Flap,
-}
-
 /// Which theory drives the paddle.
 #[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "snake_case")]
@@ -135,7 +125,8 @@ pub enum WaveTheory {
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct WavemakerSettings {
-    pub paddle: PaddleType,
+    /// How the paddle moves: `piston` or `flap`.
+    pub paddle: PaddleKind,
     pub theory: WaveTheory,
     /// Target wave height H: the Iribarren number and the surf observers use it.
     pub height_m: f64,
@@ -597,20 +588,14 @@ impl Case {
         let depth = self.paddle_depth_m().unwrap_or(0.0);
         let g = self.fluid.gravity_m_s2;
         Some(match w.theory {
-            WaveTheory::Linear => {
-                let kind = match w.paddle {
-                    PaddleType::Piston => PaddleKind::Piston,
-                    PaddleType::Flap => PaddleKind::Flap,
-                };
-                PaddleMotion::linear(
-                    kind,
-                    w.paddle_height(),
-                    w.period_s,
-                    depth,
-                    g,
-                    w.ramp_periods,
-                )
-            }
+            WaveTheory::Linear => PaddleMotion::linear(
+                w.paddle,
+                w.paddle_height(),
+                w.period_s,
+                depth,
+                g,
+                w.ramp_periods,
+            ),
             WaveTheory::Cnoidal => {
                 PaddleMotion::cnoidal(w.paddle_height(), w.period_s, depth, g, w.ramp_periods)
             }
@@ -953,13 +938,13 @@ impl Case {
                 ),
             );
         }
-        if w.theory != WaveTheory::Linear && w.paddle != PaddleType::Piston {
+        if w.theory != WaveTheory::Linear && w.paddle != PaddleKind::Piston {
             return err(
                 "wavemaker.paddle",
                 format!("{:?} theory drives a piston, not a flap", w.theory).to_lowercase(),
             );
         }
-        if w.absorb_long_waves && w.paddle != PaddleType::Piston {
+        if w.absorb_long_waves && w.paddle != PaddleKind::Piston {
             return err(
                 "wavemaker.absorb_long_waves",
                 "long-wave absorption is made for a piston, not a flap".to_owned(),
@@ -1010,8 +995,8 @@ impl Case {
         };
         // The top of a flap moves (top height / depth) times as far as its still-water point.
         let reach = match w.paddle {
-            PaddleType::Piston => 1.0,
-            PaddleType::Flap => (self.flume.height_m - self.bed_y_at(w.x_m)) / depth,
+            PaddleKind::Piston => 1.0,
+            PaddleKind::Flap => (self.flume.height_m - self.bed_y_at(w.x_m)) / depth,
         };
         let (back, _) = motion.excursion_m();
         if w.x_m + reach * back < 2.0 * h {
