@@ -14,7 +14,6 @@ use std::path::{Path, PathBuf};
 
 pub use overrides::apply_override;
 
-use crate::waves::WaveError;
 use crate::waves::linear::PaddleKind;
 use crate::waves::paddle::PaddleMotion;
 
@@ -581,28 +580,6 @@ impl Case {
         Some(self.still_level_at(x)? - self.bed_y_at(w.x_m))
     }
 
-    /// The paddle motion the case asks for, designed from its theory (`None` without a
-    /// wavemaker). Errors say why the wave cannot be made.
-    pub fn paddle_motion(&self) -> Option<Result<PaddleMotion, WaveError>> {
-        let w = self.wavemaker.as_ref()?;
-        let depth = self.paddle_depth_m().unwrap_or(0.0);
-        let g = self.fluid.gravity_m_s2;
-        Some(match w.theory {
-            WaveTheory::Linear => PaddleMotion::linear(
-                w.paddle,
-                w.paddle_height(),
-                w.period_s,
-                depth,
-                g,
-                w.ramp_periods,
-            ),
-            WaveTheory::Cnoidal => {
-                PaddleMotion::cnoidal(w.paddle_height(), w.period_s, depth, g, w.ramp_periods)
-            }
-            WaveTheory::Solitary => PaddleMotion::solitary(w.paddle_height(), depth, g),
-        })
-    }
-
     /// Colour range for u1.
     pub fn u1_range(&self) -> (f64, f64) {
         match self.output.u1_range_m_s.as_slice() {
@@ -979,7 +956,8 @@ impl Case {
                 ),
             );
         };
-        let motion = match self.paddle_motion() {
+        // The motion is designed from the theory in `crate::wavemaker`.
+        let motion = match PaddleMotion::from_case(self) {
             Some(Ok(m)) => m,
             Some(Err(e)) => {
                 return err(
@@ -1049,20 +1027,6 @@ mod tests {
     fn parse(text: &str, overrides: &[&str]) -> Result<Case, CaseError> {
         let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
         Case::from_toml_str(text, Path::new("test.toml"), "test", &o)
-    }
-
-    #[test]
-    fn a_calibrated_paddle_is_driven_for_its_own_height() {
-        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/ting_kirby_spilling.toml");
-        let c = Case::load(&path, &[]).unwrap();
-        let w = c.wavemaker.as_ref().unwrap();
-        assert_eq!((w.height_m, w.paddle_height()), (0.125, 0.120));
-        let depth = c.paddle_depth_m().unwrap();
-        let expected = PaddleMotion::cnoidal(0.120, 2.0, depth, 9.81, w.ramp_periods).unwrap();
-        let motion = c.paddle_motion().unwrap().unwrap();
-        assert_eq!(motion.excursion_m(), expected.excursion_m());
-        let e = Case::load(&path, &["wavemaker.paddle_height_m=-0.1".into()]).unwrap_err();
-        assert!(e.to_string().contains("wavemaker.paddle_height_m"), "{e}");
     }
 
     #[test]

@@ -5,6 +5,7 @@
 use crate::case::{Case, CaseError, WaveTheory};
 use crate::waves::breaker::{self, BreakerType};
 use crate::waves::linear::{self, PaddleKind};
+use crate::waves::paddle::PaddleMotion;
 use std::path::{Path, PathBuf};
 
 /// A case file offered in the preset list.
@@ -175,7 +176,7 @@ impl Derived {
             d.predicted = Some(breaker::predicted_type(ir));
         }
         if let Ok(c) = &candidate
-            && let Some(Ok(m)) = c.paddle_motion()
+            && let Some(Ok(m)) = PaddleMotion::from_case(c)
         {
             d.stroke_m = Some(m.stroke_m());
         }

@@ -19,6 +19,7 @@ use crate::output::surf::{SurfRecorder, log_profiles};
 use crate::output::timeseries::gauge_columns;
 use crate::simulation::Simulation;
 use crate::solver::StageTimings;
+use crate::waves::paddle::PaddleMotion;
 use rerun::sink::LogSink;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -451,7 +452,9 @@ impl Worker {
             return self.reset(case);
         };
         sim.solver.params.alpha = case.solver.alpha;
-        if let (Some(w), Some(Ok(motion))) = (sim.wavemaker.as_mut(), case.paddle_motion()) {
+        if let (Some(w), Some(Ok(motion))) =
+            (sim.wavemaker.as_mut(), PaddleMotion::from_case(&case))
+        {
             w.retune(motion, sim.time_s);
         }
         sim.case = case.clone();
