@@ -10,6 +10,10 @@
 //! defaults (stated in each field's doc comment) and the checks serde cannot make; this file
 //! holds the whole [`Case`], its loading and the helpers that read several tables at once.
 //!
+//! A setting that can be switched off is an `Option`: `None` is off. TOML has no null, so a case
+//! file (or a `--set`) turns such a setting off by writing 0 (an empty list for
+//! `output.u1_range_m_s`), which is read as `None` before the case is checked.
+//!
 //! Lengths are in metres with y up and y = 0 at the flume floor; times in seconds; SI throughout.
 
 mod fluid;
@@ -153,6 +157,7 @@ impl Case {
         if case.name.is_empty() {
             case.name = default_name.to_owned();
         }
+        case.zero_means_off();
         case.validate()
             .map_err(|(field, message)| CaseError::Field {
                 file: file.to_owned(),
@@ -160,6 +165,23 @@ impl Case {
                 message,
             })?;
         Ok(case)
+    }
+
+    /// The case a run wrote to its summary.json (`parameters`), as it was: not validated
+    /// again. Summaries written before a setting became an `Option` hold 0 where it was off;
+    /// that 0 is read as off here too.
+    pub fn from_summary(parameters: serde_json::Value) -> Result<Case, serde_json::Error> {
+        let mut case: Case = serde_json::from_value(parameters)?;
+        case.zero_means_off();
+        Ok(case)
+    }
+
+    /// Reads the 0 (or empty list) a case file writes for an optional setting as `None`.
+    fn zero_means_off(&mut self) {
+        self.solver.zero_means_off();
+        self.time.zero_means_off();
+        self.output.zero_means_off();
+        self.surf.zero_means_off();
     }
 
     /// The still-water level at `x_m`: the depth of the deepest region spanning it.
@@ -190,8 +212,8 @@ impl Case {
 
     /// Colour range for u1: `output.u1_range_m_s`, else ±sqrt(g·d) of the deepest region.
     pub fn u1_range(&self) -> (f64, f64) {
-        match self.output.u1_range_m_s.as_slice() {
-            [lo, hi] => (*lo, *hi),
+        match self.output.u1_range_m_s.as_deref() {
+            Some([lo, hi]) => (*lo, *hi),
             _ => {
                 let c = (self.fluid.gravity_m_s2 * self.max_depth_m()).sqrt();
                 (-c, c)
@@ -248,6 +270,13 @@ fn non_negative(field: &str, v: f64) -> Result<(), (String, String)> {
         Ok(())
     } else {
         err(field, format!("must be finite and ≥ 0, got {v}"))
+    }
+}
+
+/// An optional setting written as 0 (the case file's "off") becomes `None`.
+fn off_if_zero(v: &mut Option<f64>) {
+    if *v == Some(0.0) {
+        *v = None;
     }
 }
 
@@ -325,6 +354,108 @@ mod tests {
                 .to_string()
                 .contains("nope")
         );
+    }
+
+    /// Every optional setting written as 0 (or, for the colour range, an empty list).
+    const ALL_OFF: &str = "[solver]\ninsert_radius_h = 0.0\nremove_distance_h = 0\n\
+        merge_surface_distance_h = 0.0\nweak_surface_length_h = 0.0\nsurface_filter = 0.0\n\
+        volume_relaxation_s = 0.0\n[time]\nsurface_wave_courant = 0.0\n\
+        [output]\nu1_range_m_s = []\n[surf]\nprofile_dz_m = 0.0\n";
+
+    fn assert_all_off(c: &Case) {
+        let s = &c.solver;
+        assert_eq!(
+            [
+                s.insert_radius_h,
+                s.remove_distance_h,
+                s.merge_surface_distance_h,
+                s.weak_surface_length_h,
+                s.surface_filter,
+                s.volume_relaxation_s,
+                c.time.surface_wave_courant,
+                c.surf.profile_dz_m,
+            ],
+            [None; 8]
+        );
+        assert_eq!(c.output.u1_range_m_s, None);
+    }
+
+    #[test]
+    fn zero_in_a_case_file_or_an_override_means_off() {
+        let d = parse(MINIMAL, &[]).unwrap();
+        assert_eq!(d.solver.insert_radius_h, Some(0.9));
+        assert_eq!(d.solver.remove_distance_h, Some(0.35));
+        assert_eq!(d.time.surface_wave_courant, Some(0.1));
+        assert_eq!(d.solver.surface_filter, None);
+        assert_eq!(d.surf.profile_dz_m, None);
+        assert_all_off(&parse(&format!("{MINIMAL}{ALL_OFF}"), &[]).unwrap());
+        let sets = [
+            "solver.insert_radius_h=0",
+            "solver.remove_distance_h=0",
+            "solver.merge_surface_distance_h=0",
+            "solver.weak_surface_length_h=0.0",
+            "solver.surface_filter=0",
+            "solver.volume_relaxation_s=0",
+            "time.surface_wave_courant=0",
+            "output.u1_range_m_s=[]",
+            "surf.profile_dz_m=0",
+        ];
+        assert_all_off(&parse(MINIMAL, &sets).unwrap());
+        let on = parse(
+            MINIMAL,
+            &["solver.surface_filter=0.2", "output.u1_range_m_s=[-1, 1]"],
+        )
+        .unwrap();
+        assert_eq!(on.solver.surface_filter, Some(0.2));
+        assert_eq!(on.u1_range(), (-1.0, 1.0));
+        for (o, field) in [
+            ("output.u1_range_m_s=[1]", "output.u1_range_m_s"),
+            ("solver.insert_radius_h=0.4", "solver.insert_radius_h"),
+            ("solver.remove_distance_h=-0.1", "solver.remove_distance_h"),
+            ("solver.surface_filter=1", "solver.surface_filter"),
+            (
+                "solver.volume_relaxation_s=-1",
+                "solver.volume_relaxation_s",
+            ),
+            ("surf.profile_dz_m=-0.01", "surf.profile_dz_m"),
+        ] {
+            let msg = parse(MINIMAL, &[o]).unwrap_err().to_string();
+            assert!(msg.contains(field), "{o}: {msg}");
+        }
+    }
+
+    #[test]
+    fn the_summary_reads_back_as_the_case() {
+        let c = parse(&format!("{MINIMAL}{ALL_OFF}"), &[]).unwrap();
+        let json = serde_json::to_value(&c).unwrap();
+        // Off where the default is on: null, so it does not read back as the default.
+        assert!(json["time"]["surface_wave_courant"].is_null());
+        assert!(json["solver"].get("insert_radius_h").is_some());
+        // Off where the default is off: left out.
+        assert!(json["solver"].get("surface_filter").is_none());
+        assert!(json["output"].get("u1_range_m_s").is_none());
+        assert_eq!(Case::from_summary(json).unwrap(), c);
+        let d = parse(MINIMAL, &[]).unwrap();
+        assert_eq!(
+            Case::from_summary(serde_json::to_value(&d).unwrap()).unwrap(),
+            d
+        );
+        // A summary written while these were plain numbers holds 0 (and []) where they were off.
+        let mut old = serde_json::to_value(&d).unwrap();
+        for (table, key) in [
+            ("solver", "insert_radius_h"),
+            ("solver", "remove_distance_h"),
+            ("solver", "merge_surface_distance_h"),
+            ("solver", "weak_surface_length_h"),
+            ("solver", "surface_filter"),
+            ("solver", "volume_relaxation_s"),
+            ("time", "surface_wave_courant"),
+            ("surf", "profile_dz_m"),
+        ] {
+            old[table][key] = 0.0.into();
+        }
+        old["output"]["u1_range_m_s"] = serde_json::json!([]);
+        assert_all_off(&Case::from_summary(old).unwrap());
     }
 
     #[test]

@@ -11,9 +11,10 @@ pub struct OutputSettings {
     pub interval_s: f64,
     /// Log the triangle edges to the .rrd as well. Default off (false).
     pub mesh: bool,
-    /// Colour range `[min, max]` for u1, m/s; empty means ±sqrt(g·d) of the deepest water
-    /// region. Default empty.
-    pub u1_range_m_s: Vec<f64>,
+    /// Colour range `[min, max]` for u1, m/s. Default `None`: ±sqrt(g·d) of the deepest water
+    /// region (an empty list in a case file means the same).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub u1_range_m_s: Option<Vec<f64>>,
     /// Surface-elevation gauges: x positions, m. Recorded to gauges.csv at every output.
     /// Default none.
     pub gauges_x_m: Vec<f64>,
@@ -27,7 +28,7 @@ impl Default for OutputSettings {
         Self {
             interval_s: 0.02,
             mesh: false,
-            u1_range_m_s: Vec::new(),
+            u1_range_m_s: None,
             gauges_x_m: Vec::new(),
             probes_m: Vec::new(),
         }
@@ -35,8 +36,15 @@ impl Default for OutputSettings {
 }
 
 impl OutputSettings {
-    /// A positive interval, gauges and probes inside `flume`, a colour range empty or
-    /// [min, max] with min < max.
+    /// Reads the empty colour range a case file may write as `None`.
+    pub(super) fn zero_means_off(&mut self) {
+        if self.u1_range_m_s.as_ref().is_some_and(Vec::is_empty) {
+            self.u1_range_m_s = None;
+        }
+    }
+
+    /// A positive interval, gauges and probes inside `flume`, a colour range [min, max] with
+    /// min < max.
     pub(super) fn validate(&self, flume: &Flume) -> Result<(), (String, String)> {
         positive("output.interval_s", self.interval_s)?;
         if let Some(x) = self
@@ -62,10 +70,10 @@ impl OutputSettings {
                 format!("probe at {p:?} m lies outside the flume"),
             );
         }
-        match self.u1_range_m_s.as_slice() {
-            [] => {}
-            [lo, hi] if lo.is_finite() && hi.is_finite() && lo < hi => {}
-            _ => {
+        match self.u1_range_m_s.as_deref() {
+            None => {}
+            Some([lo, hi]) if lo.is_finite() && hi.is_finite() && lo < hi => {}
+            Some(_) => {
                 return err(
                     "output.u1_range_m_s",
                     "must be [min, max] with min < max".into(),

@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::{err, non_negative, positive};
+use super::{err, non_negative, off_if_zero, positive};
 
 /// Which formula gives the FIC/PSPG stabilisation parameter τ (see `fem::tau`).
 #[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq, Default)]
@@ -32,6 +32,10 @@ pub enum PressureSolver {
     Cholesky,
 }
 
+/// The solver's settings. The optional ones are off when `None`: a case file turns them off by
+/// writing 0. Those that are on by default (`insert_radius_h`, `remove_distance_h`) write `null`
+/// into summary.json when off, so that reading the summary back gives off, not the default;
+/// those that are off by default are left out of it when off.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields, default)]
 pub struct SolverSettings {
@@ -60,17 +64,18 @@ pub struct SolverSettings {
     /// Default 0.4.
     pub wall_margin_h: f64,
     /// A kept triangle whose circumradius exceeds this (in units of h) gets a new particle at its
-    /// centroid; 0 turns insertion off. Keep it below α so triangles split before they drop.
-    /// Default 0.9.
-    pub insert_radius_h: f64,
-    /// An interior particle closer than this (in units of h) to a neighbour is removed; 0 turns
-    /// removal off. Default 0.35.
-    pub remove_distance_h: f64,
+    /// centroid; `None` (0 in a case file) turns insertion off. Keep it below α so triangles
+    /// split before they drop. Default 0.9.
+    pub insert_radius_h: Option<f64>,
+    /// An interior particle closer than this (in units of h) to a neighbour is removed; `None`
+    /// (0 in a case file) turns removal off. Default 0.35.
+    pub remove_distance_h: Option<f64>,
     /// Two free-surface fluid particles closer than this (in units of h) are merged into one at
-    /// their midpoint, with their mean velocity; 0 turns it off. Where a jet lands or a bore
-    /// overtakes a crest, surface particles collide and make slivers that removal, which takes
-    /// only interior particles, does not reach. Default 0 (off).
-    pub merge_surface_distance_h: f64,
+    /// their midpoint, with their mean velocity. Where a jet lands or a bore overtakes a crest,
+    /// surface particles collide and make slivers that removal, which takes only interior
+    /// particles, does not reach. Default off (`None`; 0 in a case file is off too).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub merge_surface_distance_h: Option<f64>,
     /// Put the water area lost since t = 0 back on the free surface every step (Kratos'
     /// PFEM-Fluid correction; see `solver/volume.rs`). Default off (false): it hides the loss.
     pub volume_recovery: bool,
@@ -79,22 +84,25 @@ pub struct SolverSettings {
     /// the straight-line move shrinks every element whose flow strains it (det ∇u < 0, as in
     /// irrotational wave motion) by Δt² |det ∇u| A per step. Default off (false).
     pub area_correction: bool,
-    /// 0: p = 0 strongly on free-surface fluid nodes. λ > 0: those nodes keep their
+    /// `None`: p = 0 strongly on free-surface fluid nodes. λ > 0: those nodes keep their
     /// continuity equation and p = 0 holds weakly, as the Robin condition
-    /// ∂p/∂n + p/(λh) = 0 on the free-surface edges (see `solver/pressure.rs`). Default 0
-    /// (strong).
-    pub weak_surface_length_h: f64,
+    /// ∂p/∂n + p/(λh) = 0 on the free-surface edges (see `solver/pressure.rs`). Default `None`
+    /// (strong; 0 in a case file means strong too).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub weak_surface_length_h: Option<f64>,
     /// Strength ε in [0, 1) of the surface filter: each step the velocity of a free-surface
     /// fluid node loses ε/16 of the fourth difference of the velocities along the surface
     /// (two neighbours each side). It removes ε of a node-to-node (2h) ripple per step and
-    /// ε (k h)⁴/16 of a smooth wave of wavenumber k (see `solver/filter.rs`); 0 turns it off.
-    /// Default 0 (off).
-    pub surface_filter: f64,
-    /// Relaxation time T_r of the water area, s; 0 turns it off. The area the numerics lose
-    /// (remeshing, motion) is booked per vertical strip of 20 h, and the nodes deep in the water
-    /// of that strip (not on the mesh boundary, no wall neighbour) are asked for the divergence
-    /// that gives it back over about T_r (see `solver/relax.rs`). Default 0 (off).
-    pub volume_relaxation_s: f64,
+    /// ε (k h)⁴/16 of a smooth wave of wavenumber k (see `solver/filter.rs`). Default off
+    /// (`None`; 0 in a case file is off too).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub surface_filter: Option<f64>,
+    /// Relaxation time T_r of the water area, s. The area the numerics lose (remeshing, motion)
+    /// is booked per vertical strip of 20 h, and the nodes deep in the water of that strip (not
+    /// on the mesh boundary, no wall neighbour) are asked for the divergence that gives it back
+    /// over about T_r (see `solver/relax.rs`). Default off (`None`; 0 in a case file is off too).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub volume_relaxation_s: Option<f64>,
 }
 
 impl Default for SolverSettings {
@@ -110,20 +118,34 @@ impl Default for SolverSettings {
             cg_tolerance: 1.0e-8,
             cg_max_iterations: 2000,
             wall_margin_h: 0.4,
-            insert_radius_h: 0.9,
-            remove_distance_h: 0.35,
-            merge_surface_distance_h: 0.0,
+            insert_radius_h: Some(0.9),
+            remove_distance_h: Some(0.35),
+            merge_surface_distance_h: None,
             volume_recovery: false,
             area_correction: false,
-            weak_surface_length_h: 0.0,
-            surface_filter: 0.0,
-            volume_relaxation_s: 0.0,
+            weak_surface_length_h: None,
+            surface_filter: None,
+            volume_relaxation_s: None,
         }
     }
 }
 
 impl SolverSettings {
-    /// Each setting in its range; insertion, when on (not 0), between 0.5 h and α h.
+    /// Reads the 0 a case file writes for an optional setting as `None`.
+    pub(super) fn zero_means_off(&mut self) {
+        for v in [
+            &mut self.insert_radius_h,
+            &mut self.remove_distance_h,
+            &mut self.merge_surface_distance_h,
+            &mut self.weak_surface_length_h,
+            &mut self.surface_filter,
+            &mut self.volume_relaxation_s,
+        ] {
+            off_if_zero(v);
+        }
+    }
+
+    /// Each setting in its range; insertion, when on, between 0.5 h and α h.
     pub(super) fn validate(&self) -> Result<(), (String, String)> {
         let s = self;
         if !(s.alpha.is_finite() && s.alpha > 1.0) {
@@ -158,25 +180,31 @@ impl SolverSettings {
         if s.cg_max_iterations == 0 {
             return err("solver.cg_max_iterations", "must be at least 1".into());
         }
-        if s.insert_radius_h != 0.0 && !(s.insert_radius_h > 0.5 && s.insert_radius_h < s.alpha) {
+        if let Some(r) = s.insert_radius_h
+            && !(r > 0.5 && r < s.alpha)
+        {
             return err(
                 "solver.insert_radius_h",
                 format!(
                     "must be 0 (off) or lie in (0.5, α = {}), got {}",
-                    s.alpha, s.insert_radius_h
+                    s.alpha, r
                 ),
             );
         }
-        if !(0.0..0.5).contains(&s.merge_surface_distance_h) {
+        if let Some(d) = s.merge_surface_distance_h
+            && !(0.0..0.5).contains(&d)
+        {
             return err(
                 "solver.merge_surface_distance_h",
-                format!("must lie in [0, 0.5), got {}", s.merge_surface_distance_h),
+                format!("must lie in [0, 0.5), got {d}"),
             );
         }
-        if !(0.0..0.9).contains(&s.remove_distance_h) {
+        if let Some(d) = s.remove_distance_h
+            && !(0.0..0.9).contains(&d)
+        {
             return err(
                 "solver.remove_distance_h",
-                format!("must lie in [0, 0.9), got {}", s.remove_distance_h),
+                format!("must lie in [0, 0.9), got {d}"),
             );
         }
         if !(0.0..0.5).contains(&s.wall_margin_h) {
@@ -185,12 +213,18 @@ impl SolverSettings {
                 format!("must lie in [0, 0.5), got {}", s.wall_margin_h),
             );
         }
-        non_negative("solver.weak_surface_length_h", s.weak_surface_length_h)?;
-        non_negative("solver.volume_relaxation_s", s.volume_relaxation_s)?;
-        if !(0.0..1.0).contains(&s.surface_filter) {
+        if let Some(l) = s.weak_surface_length_h {
+            non_negative("solver.weak_surface_length_h", l)?;
+        }
+        if let Some(t) = s.volume_relaxation_s {
+            non_negative("solver.volume_relaxation_s", t)?;
+        }
+        if let Some(e) = s.surface_filter
+            && !(0.0..1.0).contains(&e)
+        {
             return err(
                 "solver.surface_filter",
-                format!("must lie in [0, 1), got {}", s.surface_filter),
+                format!("must lie in [0, 1), got {e}"),
             );
         }
         Ok(())

@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::{err, non_negative};
+use super::{err, non_negative, off_if_zero};
 
 /// Surf-zone diagnostics (`[surf]`): where the undertow is measured and from when.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
@@ -15,9 +15,10 @@ pub struct SurfSettings {
     /// Undertow stations, flume x in m: period-averaged u(z) from the bed to the crests.
     /// Default none.
     pub stations_x_m: Vec<f64>,
-    /// Height of the bins of the undertow profiles, m; 0 means half the particle spacing.
-    /// Default 0.
-    pub profile_dz_m: f64,
+    /// Height of the bins of the undertow profiles, m. Default `None`: half the particle
+    /// spacing (0 in a case file means the same).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub profile_dz_m: Option<f64>,
     /// Wave periods from t = 0 before averaging starts (the spin-up); the averages then take
     /// every whole period to the end of the run. Default 5.
     pub spin_up_periods: f64,
@@ -28,13 +29,18 @@ impl Default for SurfSettings {
         Self {
             x_origin_m: 0.0,
             stations_x_m: Vec::new(),
-            profile_dz_m: 0.0,
+            profile_dz_m: None,
             spin_up_periods: 5.0,
         }
     }
 }
 
 impl SurfSettings {
+    /// Reads the 0 a case file writes for the bin height as `None` (half the spacing).
+    pub(super) fn zero_means_off(&mut self) {
+        off_if_zero(&mut self.profile_dz_m);
+    }
+
     /// A finite origin, stations inside the flume (of length `flume_length_m`) and only with a
     /// wavemaker (`has_wavemaker`) to give the period, non-negative bins and spin-up.
     pub(super) fn validate(
@@ -55,7 +61,9 @@ impl SurfSettings {
                 format!("station at x = {x} m lies outside the flume (0, {flume_length_m}) m"),
             );
         }
-        non_negative("surf.profile_dz_m", self.profile_dz_m)?;
+        if let Some(dz) = self.profile_dz_m {
+            non_negative("surf.profile_dz_m", dz)?;
+        }
         non_negative("surf.spin_up_periods", self.spin_up_periods)?;
         if !self.stations_x_m.is_empty() && !has_wavemaker {
             return err(

@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::{err, non_negative, positive};
+use super::{err, non_negative, off_if_zero, positive};
 
 #[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq, Default)]
 #[serde(rename_all = "snake_case")]
@@ -14,7 +14,8 @@ pub enum DtPolicy {
     Fixed,
 }
 
-/// The clock.
+/// The clock. `surface_wave_courant` is on by default; off (`None`, 0 in a case file) it is
+/// written as `null` into summary.json, so that reading the summary back gives off.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields, default)]
 pub struct TimeSettings {
@@ -34,19 +35,23 @@ pub struct TimeSettings {
     /// grows a 2h-wavelength ripple when Δt exceeds about 0.126/ω (measured in still water:
     /// 3.2 ms at h = 2 cm, 2.3 ms at h = 1 cm), which then drains volume. Both policies obey
     /// it: the CFL policy as one more bound, the fixed one by splitting its Δt into equal
-    /// substeps. 0 turns the bound off. Default 0.1.
-    pub surface_wave_courant: f64,
+    /// substeps. `None` (0 in a case file) turns the bound off. Default 0.1.
+    pub surface_wave_courant: Option<f64>,
 }
 
 impl TimeSettings {
     /// The surface-wave bound on Δt in s for particle spacing `h_m` and gravity `g_m_s2`
     /// (infinite when the bound is off).
     pub fn surface_wave_dt_s(&self, h_m: f64, g_m_s2: f64) -> f64 {
-        if self.surface_wave_courant > 0.0 {
-            self.surface_wave_courant / (std::f64::consts::PI * g_m_s2 / h_m).sqrt()
-        } else {
-            f64::INFINITY
+        match self.surface_wave_courant {
+            Some(c) => c / (std::f64::consts::PI * g_m_s2 / h_m).sqrt(),
+            None => f64::INFINITY,
         }
+    }
+
+    /// Reads the 0 a case file writes for the surface-wave bound as off.
+    pub(super) fn zero_means_off(&mut self) {
+        off_if_zero(&mut self.surface_wave_courant);
     }
 
     /// Positive times with dt_min ≤ dt_max, a CFL number in (0, 1], a bound C ≥ 0.
@@ -61,7 +66,9 @@ impl TimeSettings {
         if !(t.cfl > 0.0 && t.cfl <= 1.0) {
             return err("time.cfl", format!("must lie in (0, 1], got {}", t.cfl));
         }
-        non_negative("time.surface_wave_courant", t.surface_wave_courant)?;
+        if let Some(c) = t.surface_wave_courant {
+            non_negative("time.surface_wave_courant", c)?;
+        }
         Ok(())
     }
 }
@@ -74,7 +81,7 @@ impl Default for TimeSettings {
             cfl: 0.25,
             dt_max_s: 2.0e-3,
             dt_min_s: 1.0e-6,
-            surface_wave_courant: 0.1,
+            surface_wave_courant: Some(0.1),
         }
     }
 }
