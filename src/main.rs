@@ -317,7 +317,7 @@ fn cmd_validate(
                 .with_context(|| format!("reading {}", file.display()))?;
             let json: serde_json::Value = serde_json::from_str(&text)
                 .with_context(|| format!("{}: not JSON", file.display()))?;
-            let case: Case = serde_json::from_value(json["parameters"].clone())
+            let case = Case::from_summary(json["parameters"].clone())
                 .with_context(|| format!("{}: parameters", file.display()))?;
             let number = |key: &str| {
                 json[key]

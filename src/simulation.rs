@@ -8,6 +8,7 @@ use crate::particles::Particles;
 use crate::solver::{Solver, SolverParams, StepError, StepReport};
 use crate::wavemaker::Wavemaker;
 use crate::waves::WaveError;
+use crate::waves::paddle::PaddleMotion;
 
 /// Why a case could not be set up.
 #[derive(Debug, thiserror::Error)]
@@ -111,7 +112,9 @@ impl Simulation {
     /// The case must describe the same flume and particles (the lab rebuilds for those).
     pub fn retune(&mut self, case: &Case) {
         self.solver.retune(case);
-        if let (Some(w), Some(Ok(motion))) = (self.wavemaker.as_mut(), case.paddle_motion()) {
+        if let (Some(w), Some(Ok(motion))) =
+            (self.wavemaker.as_mut(), PaddleMotion::from_case(case))
+        {
             w.retune(motion, self.time_s);
         }
         self.case = case.clone();

@@ -1,4 +1,6 @@
-//! The paddle as a moving wall of the mesh (thesis eqs. 2.32–2.40; method.md §5).
+//! The paddle as a moving wall of the mesh (thesis eqs. 2.32–2.40; method.md §5), and the
+//! design of its motion from a case ([`PaddleMotion::from_case`]: the schema in `case` names
+//! the wave, the theory in `waves` knows nothing of cases, and this layer joins the two).
 //!
 //! The paddle is a column of wall nodes standing on the bed at `wavemaker.x_m`, from half a
 //! spacing above the bed up to the top of the flume. Before each step the simulation gives every
@@ -21,13 +23,35 @@
 
 use std::collections::VecDeque;
 
-use crate::case::Case;
+use crate::case::{Case, WaveTheory};
 use crate::geometry::{Flume, PaddleFace};
 use crate::particles::Particles;
 use crate::waves::WaveError;
 use crate::waves::linear::PaddleKind;
 use crate::waves::paddle::PaddleMotion;
 use nalgebra::Vector2;
+
+impl PaddleMotion {
+    /// The paddle motion a case asks for, designed from its theory for the still-water depth in
+    /// front of the paddle (`None` without a wavemaker). Errors say why the wave cannot be made.
+    /// The case's validation calls it too, to refuse a wave that cannot be made or a stroke the
+    /// flume has no room for.
+    pub fn from_case(case: &Case) -> Option<Result<PaddleMotion, WaveError>> {
+        let w = case.wavemaker.as_ref()?;
+        let depth = case.paddle_depth_m().unwrap_or(0.0);
+        let g = case.fluid.gravity_m_s2;
+        let height = w.paddle_height();
+        Some(match w.theory {
+            WaveTheory::Linear => {
+                PaddleMotion::linear(w.paddle, height, w.period_s, depth, g, w.ramp_periods)
+            }
+            WaveTheory::Cnoidal => {
+                PaddleMotion::cnoidal(height, w.period_s, depth, g, w.ramp_periods)
+            }
+            WaveTheory::Solitary => PaddleMotion::solitary(height, depth, g),
+        })
+    }
+}
 
 #[derive(Debug, Clone)]
 pub struct Wavemaker {
@@ -162,7 +186,7 @@ impl Wavemaker {
         first_node: usize,
     ) -> Option<Result<Self, WaveError>> {
         let w = case.wavemaker.as_ref()?;
-        let motion = match case.paddle_motion()? {
+        let motion = match PaddleMotion::from_case(case)? {
             Ok(m) => m,
             Err(e) => return Some(Err(e)),
         };
@@ -375,5 +399,22 @@ mod tests {
             println!("gain {gain}: U_a = {u:.5} m/s, −(c/h) η_R one second earlier {want:.5}");
             assert!((u - want).abs() < 0.25 * c_over_h * 0.003, "{u} vs {want}");
         }
+    }
+
+    #[test]
+    fn a_calibrated_paddle_is_driven_for_its_own_height() {
+        use crate::case::Case;
+        use crate::waves::paddle::PaddleMotion;
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/ting_kirby_spilling.toml");
+        let c = Case::load(&path, &[]).unwrap();
+        let w = c.wavemaker.as_ref().unwrap();
+        assert_eq!((w.height_m, w.paddle_height()), (0.125, 0.120));
+        let depth = c.paddle_depth_m().unwrap();
+        let expected = PaddleMotion::cnoidal(0.120, 2.0, depth, 9.81, w.ramp_periods).unwrap();
+        let motion = PaddleMotion::from_case(&c).unwrap().unwrap();
+        assert_eq!(motion.excursion_m(), expected.excursion_m());
+        let e = Case::load(&path, &["wavemaker.paddle_height_m=-0.1".into()]).unwrap_err();
+        assert!(e.to_string().contains("wavemaker.paddle_height_m"), "{e}");
     }
 }

@@ -105,11 +105,7 @@ impl Stations {
     pub fn new(sim: &Simulation) -> Self {
         let case = &sim.case;
         let h = case.particles.spacing_m;
-        let dz = if case.surf.profile_dz_m > 0.0 {
-            case.surf.profile_dz_m
-        } else {
-            0.5 * h
-        };
+        let dz = case.surf.profile_dz_m.unwrap_or(0.5 * h);
         let height = case.wavemaker.as_ref().map_or(0.0, |w| w.height_m);
         let mut level_m = Vec::new();
         let stations: Vec<Station> = case

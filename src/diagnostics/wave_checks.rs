@@ -2,9 +2,9 @@
 //! it made, against linear or cnoidal theory. Pure functions of the records; reading
 //! `gauges.csv` and printing the verdicts is the binary's job.
 
-use crate::case::{Case, PaddleType, WaveTheory};
+use crate::case::{Case, WaveTheory};
 use crate::waves::cnoidal::CnoidalWave;
-use crate::waves::linear;
+use crate::waves::linear::{self, PaddleKind};
 use serde::Serialize;
 use std::f64::consts::{PI, TAU};
 
@@ -574,7 +574,7 @@ pub fn cnoidal(case: &Case, record: &GaugeRecord) -> Result<Report, CheckError> 
     let w = case
         .wavemaker
         .as_ref()
-        .filter(|w| w.theory == WaveTheory::Cnoidal && w.paddle == PaddleType::Piston)
+        .filter(|w| w.theory == WaveTheory::Cnoidal && w.paddle == PaddleKind::Piston)
         .ok_or_else(|| CheckError::NotApplicable("this check is for a cnoidal piston".into()))?;
     let depth = case
         .water

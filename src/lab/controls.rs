@@ -2,9 +2,10 @@
 //! make (checked exactly like a case file), and the derived read-outs (L₀, kh, H/L, I_r, the
 //! predicted breaker, the paddle stroke). No egui here, so it is testable on its own.
 
-use crate::case::{Case, CaseError, PaddleType, WaveTheory};
+use crate::case::{Case, CaseError, WaveTheory};
 use crate::waves::breaker::{self, BreakerType};
-use crate::waves::linear;
+use crate::waves::linear::{self, PaddleKind};
+use crate::waves::paddle::PaddleMotion;
 use std::path::{Path, PathBuf};
 
 /// A case file offered in the preset list.
@@ -42,7 +43,7 @@ pub struct Controls {
     /// 1 without one): a new H drives the paddle for H times this.
     pub paddle_ratio: f64,
     pub period_s: Option<f64>,
-    pub paddle: Option<PaddleType>,
+    pub paddle: Option<PaddleKind>,
     pub theory: Option<WaveTheory>,
     pub slope: Option<f64>,
     pub alpha: f64,
@@ -168,7 +169,7 @@ impl Derived {
             d.predicted = Some(breaker::predicted_type(ir));
         }
         if let Ok(c) = &candidate
-            && let Some(Ok(m)) = c.paddle_motion()
+            && let Some(Ok(m)) = PaddleMotion::from_case(c)
         {
             d.stroke_m = Some(m.stroke_m());
         }

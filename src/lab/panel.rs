@@ -3,7 +3,8 @@
 
 use super::controls::{Controls, Derived, Preset};
 use super::worker::{Command, SinkFactory, UI_FPS_LOW, UiFrames, WorkerHandle};
-use crate::case::{PaddleType, WaveTheory};
+use crate::case::WaveTheory;
+use crate::waves::linear::PaddleKind;
 use egui::{RichText, Ui};
 use std::path::PathBuf;
 use std::time::Duration;
@@ -184,8 +185,8 @@ impl Panel {
             if let Some(paddle) = c.paddle.as_mut() {
                 ui.label("wavemaker");
                 ui.horizontal(|ui| {
-                    ui.selectable_value(paddle, PaddleType::Piston, "piston");
-                    ui.selectable_value(paddle, PaddleType::Flap, "flap");
+                    ui.selectable_value(paddle, PaddleKind::Piston, "piston");
+                    ui.selectable_value(paddle, PaddleKind::Flap, "flap");
                 });
                 ui.end_row();
             }

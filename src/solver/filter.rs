@@ -25,10 +25,9 @@ const NONE: u32 = u32::MAX;
 impl Solver {
     /// Applies the filter; returns how many nodes it changed.
     pub(super) fn filter_surface(&mut self, particles: &Particles) -> usize {
-        let eps = self.params.surface_filter;
-        if eps <= 0.0 {
+        let Some(eps) = self.params.surface_filter else {
             return 0;
-        }
+        };
         let n = particles.len();
         let mut next = vec![NONE; n];
         let mut prev = vec![NONE; n];

@@ -47,12 +47,12 @@ pub struct SolverParams {
     pub cg_max_iterations: usize,
     /// Closest approach of a fluid particle to the solid, m.
     pub wall_margin_m: f64,
-    /// Node insertion threshold on the circumradius, in units of h (0: off).
-    pub insert_radius_h: f64,
-    /// Node removal threshold on the spacing, in units of h (0: off).
-    pub remove_distance_h: f64,
-    /// Free-surface pairs closer than this (in units of h) are merged (0: off).
-    pub merge_surface_distance_h: f64,
+    /// Node insertion threshold on the circumradius, in units of h (`None`: off).
+    pub insert_radius_h: Option<f64>,
+    /// Node removal threshold on the spacing, in units of h (`None`: off).
+    pub remove_distance_h: Option<f64>,
+    /// Free-surface pairs closer than this (in units of h) are merged (`None`: off).
+    pub merge_surface_distance_h: Option<f64>,
     /// Smallest Δt the solver may fall back to when a step would invert elements.
     pub dt_min_s: f64,
     /// May the solver shorten Δt on its own (CFL policy) when a step would invert elements?
@@ -63,12 +63,12 @@ pub struct SolverParams {
     pub volume_recovery: bool,
     /// Continuity asks for ∇·u = −Δt det ∇ũ so the move keeps element areas.
     pub area_correction: bool,
-    /// Robin length of the weak free-surface condition in m; 0 = strong p = 0.
-    pub weak_surface_length_m: f64,
-    /// Strength of the fourth-difference filter of the surface velocities (0: off).
-    pub surface_filter: f64,
-    /// Relaxation time T_r of the per-strip water-area ledger (`relax.rs`), s (0: off).
-    pub volume_relaxation_s: f64,
+    /// Robin length of the weak free-surface condition in m; `None`: strong p = 0.
+    pub weak_surface_length_m: Option<f64>,
+    /// Strength of the fourth-difference filter of the surface velocities (`None`: off).
+    pub surface_filter: Option<f64>,
+    /// Relaxation time T_r of the per-strip water-area ledger (`relax.rs`), s (`None`: off).
+    pub volume_relaxation_s: Option<f64>,
     /// A fluid speed above this stops the run as diverged, m/s (ten times the speed of a fall
     /// from the top of the flume, sqrt(2 g H)).
     pub speed_limit_m_s: f64,
@@ -128,7 +128,7 @@ impl SolverParams {
             speed_limit_m_s: f64::INFINITY,
             volume_recovery: s.volume_recovery,
             area_correction: s.area_correction,
-            weak_surface_length_m: s.weak_surface_length_h * particles.spacing_m,
+            weak_surface_length_m: s.weak_surface_length_h.map(|l| l * particles.spacing_m),
             surface_filter: s.surface_filter,
             volume_relaxation_s: s.volume_relaxation_s,
             two_threads: true,

@@ -57,7 +57,7 @@ impl Solver {
                 continue;
             }
             let r = (pb - pa).norm() * (pc - pb).norm() * (pa - pc).norm() / (4.0 * area);
-            if insert_r_h == 0.0 || r <= insert_r_h * h {
+            if insert_r_h.is_none_or(|r_h| r <= r_h * h) {
                 continue;
             }
             let centroid = (pa + pb + pc) / 3.0;
@@ -87,7 +87,10 @@ impl Solver {
 
         let n = particles.len();
         let mut drop = vec![false; n];
-        let min_d2 = (self.params.remove_distance_h * h).powi(2);
+        let min_d2 = self
+            .params
+            .remove_distance_h
+            .map_or(0.0, |d| (d * h).powi(2));
         let removable = |i: usize, mesh: &crate::mesh::Mesh| {
             particles.kind[i] == NodeKind::Fluid && mesh.in_mesh[i] && !mesh.free_surface[i]
         };
@@ -105,7 +108,10 @@ impl Solver {
             }
         }
         // Colliding surface particles: merge each close pair into its midpoint.
-        let merge_d2 = (self.params.merge_surface_distance_h * h).powi(2);
+        let merge_d2 = self
+            .params
+            .merge_surface_distance_h
+            .map_or(0.0, |d| (d * h).powi(2));
         let mut moved: Vec<(usize, Vector2<f64>, Vector2<f64>)> = Vec::new();
         if merge_d2 > 0.0 {
             let surface = |i: usize| {

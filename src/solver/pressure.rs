@@ -434,7 +434,7 @@ impl Solver {
         if !self.mesh.free_surface[i] {
             return false;
         }
-        if !(self.params.weak_surface_length_m > 0.0 && particles.is_fluid(i)) {
+        if !(self.params.weak_surface_length_m.is_some() && particles.is_fluid(i)) {
             return true;
         }
         let interior =
@@ -450,10 +450,9 @@ impl Solver {
     /// (Δt/ρ + τ_e) ∫ N_i p / λ, lumped (ℓ/2 per node), so that the boundary flux of the
     /// Poisson operator meets ∂p/∂n + p/λ = 0.
     fn add_weak_surface(&mut self, particles: &Particles, dt: f64) {
-        let lambda = self.params.weak_surface_length_m;
-        if lambda <= 0.0 {
+        let Some(lambda) = self.params.weak_surface_length_m else {
             return;
-        }
+        };
         let rho = self.params.density_kg_m3;
         let mesh = &self.mesh;
         let sys = &mut self.pressure;

@@ -155,7 +155,7 @@ impl Solver {
 
     /// Before the first step's node stage: the strip areas of the initial mesh.
     pub(super) fn relax_start(&mut self, particles: &Particles) {
-        if self.params.volume_relaxation_s <= 0.0 || self.ledger.moved.is_some() {
+        if self.params.volume_relaxation_s.is_none() || self.ledger.moved.is_some() {
             return;
         }
         self.ledger.strip_m = STRIP_H * self.params.spacing_m;
@@ -171,10 +171,9 @@ impl Solver {
         let n = particles.len();
         self.divergence_target.clear();
         self.divergence_target.resize(n, 0.0);
-        let t_r = self.params.volume_relaxation_s;
-        if t_r <= 0.0 {
+        let Some(t_r) = self.params.volume_relaxation_s else {
             return;
-        }
+        };
         let h = self.params.spacing_m;
         let ledger = &mut self.ledger;
         let strip_m = ledger.strip_m;
@@ -232,7 +231,7 @@ impl Solver {
     /// After the move: books each triangle's area change and keeps the strip areas for the
     /// next remesh.
     pub(super) fn relax_after_move(&mut self, particles: &Particles) {
-        if self.params.volume_relaxation_s <= 0.0 {
+        if self.params.volume_relaxation_s.is_none() {
             return;
         }
         let x = &particles.position;

@@ -153,12 +153,14 @@ fn miche_height_limit_m(wavelength_m: f64, depth_m: f64) -> f64 {
     MICHE_COEFFICIENT * wavelength_m * (TAU * depth_m / wavelength_m).tanh()
 }
 
-/// Type of wavemaker.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// Type of wavemaker: how the paddle moves. The case schema uses it too (`wavemaker.paddle`,
+/// written `piston` or `flap`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum PaddleKind {
-    /// Rigid vertical plate translating horizontally (uniform stroke).
+    /// A rigid vertical plate translating along x (uniform stroke).
     Piston,
-    /// Rigid plate rotating about a hinge on the bed (stroke ∝ z + h).
+    /// A rigid plate hinged on the bed, rotating about the hinge (stroke ∝ z + h).
     Flap,
 }
 

@@ -4,6 +4,9 @@
 //! For a piston every point of the face moves by X(t). For a bed-hinged flap the face turns
 //! rigidly about the hinge by the angle whose tangent is X(t)/h, so that the still-water point
 //! moves by X(t) (method.md §5).
+//!
+//! This module knows nothing of cases: the motion a case asks for is designed by
+//! `PaddleMotion::from_case` in `crate::wavemaker`.
 
 use super::Result;
 use super::cnoidal::{CnoidalPaddle, CnoidalWave};

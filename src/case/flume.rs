@@ -1,0 +1,150 @@
+//! `[flume]`: the walls and the bed (a polyline or a plane beach).
+
+use serde::{Deserialize, Serialize};
+
+use super::{err, positive};
+
+/// The flume: a floor from x = 0 to `length_m`, vertical walls at both ends up to `height_m`.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Flume {
+    /// Length of the floor, wall to wall, m. Required.
+    pub length_m: f64,
+    /// Height of the end walls above the floor, m. Required.
+    pub height_m: f64,
+    /// Optional bed polyline `[[x, y], …]` in metres, x increasing from 0 to `length_m`.
+    /// Default empty: a flat floor at y = 0.
+    #[serde(default)]
+    pub bed_m: Vec<[f64; 2]>,
+    /// A plane beach instead of `bed_m`: flat floor up to `toe_x_m`, then rising at `slope`.
+    /// Default none.
+    #[serde(default)]
+    pub beach: Option<Beach>,
+    /// The condition on the solid walls. Default `no_slip`.
+    #[serde(default)]
+    pub walls: WallCondition,
+}
+
+/// A plane beach: the floor is flat (y = 0) up to the toe, then rises at `slope` (tan β) until
+/// 90 % of the wall height, and is flat again up to the end wall.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Beach {
+    /// x of the toe, m. Required.
+    pub toe_x_m: f64,
+    /// tan β, rise over run. Required.
+    pub slope: f64,
+}
+
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum WallCondition {
+    /// u = 0 at wall nodes.
+    #[default]
+    NoSlip,
+    /// Only the velocity across the wall is zero: the water slides along it (corners stay fixed).
+    Slip,
+}
+
+impl Flume {
+    /// The bed polyline `[x, y]` from x = 0 to the end: `bed_m`, the beach, or a flat floor.
+    pub fn bed_points(&self) -> Vec<[f64; 2]> {
+        if let Some(b) = &self.beach {
+            let top = 0.9 * self.height_m;
+            let rise = b.slope * (self.length_m - b.toe_x_m);
+            let mut bed = vec![[0.0, 0.0], [b.toe_x_m, 0.0]];
+            if rise <= top {
+                bed.push([self.length_m, rise]);
+            } else {
+                bed.push([b.toe_x_m + top / b.slope, top]);
+                bed.push([self.length_m, top]);
+            }
+            bed
+        } else if self.bed_m.is_empty() {
+            vec![[0.0, 0.0], [self.length_m, 0.0]]
+        } else {
+            self.bed_m.clone()
+        }
+    }
+
+    /// Bed height under `x_m`, linear between the bed points (0 for a flat floor).
+    pub fn bed_y_at(&self, x_m: f64) -> f64 {
+        polyline_y(&self.bed_points(), x_m)
+    }
+
+    /// The walls positive; a beach inside the flume and not beside `bed_m`; a bed polyline
+    /// spanning the flume with x increasing and heights below the walls.
+    pub(super) fn validate(&self) -> Result<(), (String, String)> {
+        positive("flume.length_m", self.length_m)?;
+        positive("flume.height_m", self.height_m)?;
+        if let Some(b) = &self.beach {
+            if !self.bed_m.is_empty() {
+                return err(
+                    "flume.beach",
+                    "give either flume.bed_m or flume.beach, not both".into(),
+                );
+            }
+            if !(b.toe_x_m.is_finite() && b.toe_x_m > 0.0 && b.toe_x_m < self.length_m) {
+                return err(
+                    "flume.beach.toe_x_m",
+                    format!(
+                        "must lie inside the flume (0, {}) m, got {}",
+                        self.length_m, b.toe_x_m
+                    ),
+                );
+            }
+            if !(b.slope.is_finite() && b.slope > 0.0 && b.slope <= 2.0) {
+                return err(
+                    "flume.beach.slope",
+                    format!("must lie in (0, 2] (tan β), got {}", b.slope),
+                );
+            }
+        }
+        let bed = &self.bed_m;
+        if !bed.is_empty() {
+            if bed.len() < 2 {
+                return err("flume.bed_m", "needs at least two points".into());
+            }
+            if bed.iter().flatten().any(|v| !v.is_finite()) {
+                return err("flume.bed_m", "has a non-finite coordinate".into());
+            }
+            if bed[0][0] != 0.0 || bed[bed.len() - 1][0] != self.length_m {
+                return err(
+                    "flume.bed_m",
+                    format!(
+                        "must run from x = 0 to x = flume.length_m = {}",
+                        self.length_m
+                    ),
+                );
+            }
+            if bed.windows(2).any(|w| w[1][0] <= w[0][0]) {
+                return err(
+                    "flume.bed_m",
+                    "x must increase strictly along the bed".into(),
+                );
+            }
+            if bed.iter().any(|p| p[1] < 0.0 || p[1] >= self.height_m) {
+                return err(
+                    "flume.bed_m",
+                    "bed heights must lie in [0, flume.height_m)".into(),
+                );
+            }
+        }
+        Ok(())
+    }
+}
+
+/// y of a polyline `[x, y]` (x increasing, at least one point) at `x_m`, linear between the
+/// points and constant beyond the ends: the bed height, here and in `geometry`.
+pub fn polyline_y(points: &[[f64; 2]], x_m: f64) -> f64 {
+    if x_m <= points[0][0] {
+        return points[0][1];
+    }
+    for w in points.windows(2) {
+        if x_m <= w[1][0] {
+            let s = (x_m - w[0][0]) / (w[1][0] - w[0][0]);
+            return w[0][1] + s * (w[1][1] - w[0][1]);
+        }
+    }
+    points[points.len() - 1][1]
+}
