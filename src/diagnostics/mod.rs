@@ -2,7 +2,6 @@
 
 pub mod surf;
 pub mod undertow;
-pub mod wave_checks;
 
 use crate::simulation::{AreaBudget, Simulation};
 use nalgebra::Vector2;
