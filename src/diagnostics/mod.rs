@@ -1,6 +1,7 @@
 //! Observers that read the state after a step: integral quantities and simple probes.
 
-pub mod surf;
+pub mod breaking;
+pub mod surface;
 pub mod undertow;
 
 use crate::simulation::{AreaBudget, Simulation};

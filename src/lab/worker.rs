@@ -11,7 +11,7 @@
 
 use crate::case::Case;
 use crate::diagnostics;
-use crate::diagnostics::surf::BreakingDetector;
+use crate::diagnostics::breaking::BreakingDetector;
 use crate::output::colormap::ColorScale;
 use crate::output::rrd::{RrdLogger, Viewing};
 use crate::output::run::{gauge_values, log_frame};

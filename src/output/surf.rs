@@ -5,9 +5,8 @@
 
 use super::colormap::ColorScale;
 use super::rrd::RrdLogger;
-use crate::diagnostics::surf::{
-    BreakingDetector, BreakingSummary, SurfaceProfile, surface_profile,
-};
+use crate::diagnostics::breaking::{BreakingDetector, BreakingSummary};
+use crate::diagnostics::surface::{SurfaceProfile, surface_profile};
 use crate::diagnostics::undertow::{Stations, UndertowSummary};
 use crate::simulation::Simulation;
 use rerun::archetypes::{Image, LineStrips2D, TextDocument};
