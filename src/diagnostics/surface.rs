@@ -1,10 +1,11 @@
 //! The free surface of the main body of water, sampled along x: every crossing of a vertical
 //! line with the surface (overturned parts and enclosed air cavities included), the crests on
-//! it and the crest a breaker is followed to.
+//! it and the crest a breaker is followed to, and where the still water meets the bed.
 //!
 //! All of it reads the simulation between steps; none changes it. Heights here are absolute
 //! (m above the flume floor) unless a name says "above still water".
 
+use crate::case::Case;
 use crate::simulation::Simulation;
 use nalgebra::Vector2;
 
@@ -156,6 +157,47 @@ pub fn follow_crest(
     })
 }
 
+/// The still shoreline, flume x, m: where the still water surface meets the bed as it rises
+/// shoreward, or the far wall (`flume.length_m`) where the bed never rises out of the water.
+///
+/// - A plane beach (`flume.beach`): toe + level / tan β, with the still level over the toe,
+///   while that level lies below the top of the beach's face (the face stops at 90 % of the
+///   wall height, or at the far wall).
+/// - A polyline bed (`flume.bed_m`, or the flat floor): the first x, walking shoreward from the
+///   paddle's water (x_m + h, where the paddle depth is taken; without a wavemaker, the start
+///   of the first water region), at which the bed reaches the still level there, linear
+///   between the bed's points.
+///
+/// The level is 0 where no water stands at its reference point.
+pub fn still_shoreline_x_m(case: &Case) -> f64 {
+    let length = case.flume.length_m;
+    if let Some(b) = &case.flume.beach {
+        let level = case.still_level_at(b.toe_x_m).unwrap_or(0.0);
+        let face_top = (0.9 * case.flume.height_m).min(b.slope * (length - b.toe_x_m));
+        return if level <= face_top {
+            b.toe_x_m + level / b.slope
+        } else {
+            length
+        };
+    }
+    let x0 = match &case.wavemaker {
+        Some(w) => w.x_m + case.particles.spacing_m,
+        None => case.water.first().map_or(0.0, |w| w.x_start_m),
+    };
+    let level = case.still_level_at(x0).unwrap_or(0.0);
+    let (mut xa, mut ya) = (x0, case.bed_y_at(x0));
+    if ya >= level {
+        return x0;
+    }
+    for [xb, yb] in case.flume.bed_points().into_iter().filter(|p| p[0] > x0) {
+        if yb >= level {
+            return xa + (level - ya) / (yb - ya) * (xb - xa);
+        }
+        (xa, ya) = (xb, yb);
+    }
+    length
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -184,5 +226,52 @@ mod tests {
         assert!((crest(1.2).unwrap() - 3.0).abs() < 1e-9);
         // Nothing high enough shoreward of the last crest.
         assert_eq!(crest(3.3), None);
+    }
+
+    /// The shoreline of every case in cases/: on a plane beach toe + level / tan β (the
+    /// shorelines the cases' comments give), elsewhere the far wall.
+    #[test]
+    fn the_still_shoreline_of_every_case() {
+        let mut seen = 0;
+        for entry in std::fs::read_dir("cases").unwrap() {
+            let path = entry.unwrap().path();
+            if path.extension().is_none_or(|e| e != "toml") {
+                continue;
+            }
+            let case = Case::load(&path, &[]).unwrap();
+            let x = still_shoreline_x_m(&case);
+            println!("{}: still shoreline x = {x} m", case.name);
+            let expected = match &case.flume.beach {
+                Some(b) => b.toe_x_m + case.still_level_at(b.toe_x_m).unwrap() / b.slope,
+                None => case.flume.length_m,
+            };
+            assert_eq!(x, expected, "{}", case.name);
+            seen += 1;
+        }
+        assert!(seen >= 13, "{seen} cases");
+        let beach = Case::load(std::path::Path::new("cases/teaching_beach.toml"), &[]).unwrap();
+        assert!((still_shoreline_x_m(&beach) - 7.0).abs() < 1e-12);
+    }
+
+    /// A beach given as a polyline meets the water where the plane beach does; a beach whose
+    /// face stops below the still level, and a bed that never reaches it, leave the water
+    /// against the far wall.
+    #[test]
+    fn the_still_shoreline_of_a_polyline_bed_and_a_drowned_beach() {
+        let load = |overrides: &[&str]| {
+            let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+            Case::load(std::path::Path::new("cases/teaching_beach.toml"), &o).unwrap()
+        };
+        // Toe at 3 m, 1:10, level 0.4 m: the shoreline at 7 m either way.
+        let mut polyline = load(&[]);
+        polyline.flume.bed_m = polyline.flume.bed_points();
+        polyline.flume.beach = None;
+        assert!((still_shoreline_x_m(&polyline) - 7.0).abs() < 1e-12);
+        // A shoal that rises to 0.3 m and falls again does not reach the level.
+        polyline.flume.bed_m = vec![[0.0, 0.0], [4.0, 0.3], [6.0, 0.0], [8.0, 0.0]];
+        assert_eq!(still_shoreline_x_m(&polyline), 8.0);
+        // 1:20 from 3 m rises 0.25 m by the end wall: the water stands against it.
+        let gentle = load(&["flume.beach.slope=0.05"]);
+        assert_eq!(still_shoreline_x_m(&gentle), 8.0);
     }
 }

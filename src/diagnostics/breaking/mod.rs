@@ -6,7 +6,7 @@
 
 mod frame;
 
-use super::surface::SurfaceProfile;
+use super::surface::{SurfaceProfile, still_shoreline_x_m};
 use crate::simulation::Simulation;
 use crate::waves::breaker::{self, BreakerType};
 use frame::{Frame, Onset};
@@ -259,7 +259,7 @@ impl BreakingDetector {
         out.predicted = Some(breaker::predicted_type(out.iribarren));
         let level = case.still_level_at(beach.toe_x_m).unwrap_or(0.0);
         let depth = case.paddle_depth_m().unwrap_or(level);
-        out.shoreline_x_m = beach.toe_x_m + level / beach.slope;
+        out.shoreline_x_m = still_shoreline_x_m(case);
         let wavelength = crate::waves::linear::wavelength(w.period_s, depth, g).unwrap_or(0.0);
         let celerity = wavelength / w.period_s;
         let h = case.particles.spacing_m;
