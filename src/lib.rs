@@ -4,7 +4,8 @@
 //! (the state) → `mesh` (Delaunay + α-shape) → `fem` (P1 kernels) → `solver` (the fractional
 //! step) → `wavemaker` (the paddle as a moving wall; its theory is in `waves`) → `simulation`
 //! (clock, Δt) → `diagnostics` (observers that read) → `output` (observers
-//! that write: .rrd, CSV, JSON).
+//! that write: .rrd, CSV, JSON) → `validation` (what `surflab validate` checks in the records
+//! a run wrote).
 
 // The numerics walk several parallel arrays (struct of arrays) by node index; an index loop
 // says that more plainly than zipped iterators.
@@ -22,6 +23,7 @@ pub mod particles;
 pub mod simulation;
 pub mod solver;
 pub mod sweep;
+pub mod validation;
 pub mod wavemaker;
 pub mod waves;
 

@@ -304,7 +304,6 @@ fn cmd_validate(
     until: Option<f64>,
     set: &[String],
 ) -> Result<()> {
-    use surflab::diagnostics::wave_checks::{self, CheckError};
     let (dir, case, drift, simulated, status) = match from {
         Some(dir) => {
             if !set.is_empty() || until.is_some() || out.is_some() {
@@ -369,21 +368,8 @@ fn cmd_validate(
     let gauges = dir.join("gauges.csv");
     let record = surflab::output::timeseries::read_gauges(&gauges)
         .with_context(|| format!("reading {}", gauges.display()))?;
-    let wavemaker = case
-        .wavemaker
-        .as_ref()
-        .with_context(|| format!("{}: the case has no wavemaker to validate", case.name))?;
-    let report = match wavemaker.theory {
-        surflab::case::WaveTheory::Cnoidal => wave_checks::cnoidal(&case, &record),
-        surflab::case::WaveTheory::Linear if case.absorber.is_some() => {
-            wave_checks::progressive(&case, &record, drift, simulated)
-        }
-        surflab::case::WaveTheory::Linear => wave_checks::standing(&case, &record),
-        surflab::case::WaveTheory::Solitary => Err(CheckError::NotApplicable(
-            "the solitary wave is validated by tests/solitary.rs".into(),
-        )),
-    }
-    .with_context(|| format!("validating {}", case.name))?;
+    let report = surflab::validation::check_case(&case, &record, drift, simulated)
+        .with_context(|| format!("validating {}", case.name))?;
     println!(
         "{}: {}, averaged over t = {:.2}–{:.2} s",
         case.name, report.kind, report.window_s[0], report.window_s[1]

@@ -174,6 +174,21 @@ impl Simulation {
             .collect()
     }
 
+    /// The water area shoreward of the vertical line x = `x_m`: the part of the kept mesh
+    /// right of it, m² per metre of width.
+    pub fn water_area_right_of_m2(&self, x_m: f64) -> f64 {
+        self.solver
+            .mesh_area_right_of_m2(&self.particles.position, x_m)
+    }
+
+    /// What the numerics changed of the water area shoreward of x = `x_m` since t = 0, net of
+    /// what the volume relaxation paid back, m² per metre of width (signed: a loss is
+    /// negative): the per-strip area ledger of `solver.volume_relaxation_s` summed over its
+    /// strips (20 h wide) whose centre lies at or right of `x_m`. 0 when the relaxation is off.
+    pub fn numerics_area_change_right_of_m2(&self, x_m: f64) -> f64 {
+        self.solver.area_ledger_right_of_m2(x_m)
+    }
+
     /// One step towards `until_s`.
     pub fn step_towards(&mut self, until_s: f64) -> Result<StepReport, StepError> {
         let dt = self.next_dt(until_s);

@@ -7,7 +7,8 @@
 
 mod common;
 
-use surflab::diagnostics::surf::{classify, surface_profile};
+use surflab::diagnostics::breaking::classify;
+use surflab::diagnostics::surface::surface_profile;
 use surflab::simulation::Simulation;
 use surflab::waves::breaker::{BreakerType, iribarren, predicted_type};
 

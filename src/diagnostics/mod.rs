@@ -1,8 +1,8 @@
 //! Observers that read the state after a step: integral quantities and simple probes.
 
-pub mod surf;
+pub mod breaking;
+pub mod surface;
 pub mod undertow;
-pub mod wave_checks;
 
 use crate::simulation::{AreaBudget, Simulation};
 use nalgebra::Vector2;

@@ -144,7 +144,6 @@ impl Stations {
         if self.stations.is_empty() {
             return;
         }
-        let p = &sim.particles;
         let mut sample = Sample {
             t_s: sim.time_s,
             span_s: self.span_s,
@@ -154,8 +153,6 @@ impl Stations {
             shore_area_m2: Vec::with_capacity(self.stations.len()),
             shore_ledger_m2: Vec::with_capacity(self.stations.len()),
         };
-        let ledger = sim.solver.area_ledger_m2();
-        let strip_m = sim.solver.area_ledger_strip_m();
         // Without steps fed since the last sample, the flow at this instant.
         let now = (self.span_s <= 0.0).then(|| self.sections(sim));
         for (j, s) in self.stations.iter().enumerate() {
@@ -178,28 +175,10 @@ impl Stations {
                         .collect(),
                 )
             };
-            let shore: f64 = sim
-                .solver
-                .mesh
-                .triangles
-                .iter()
-                .map(|t| {
-                    let q = t.map(|i| p.position[i as usize]);
-                    crate::fem::triangle_area(&p.position, t)
-                        - crate::solver::relax::area_left_of(q, s.x_m)
-                })
-                .sum();
-            sample.shore_area_m2.push(shore);
-            sample.shore_ledger_m2.push(if strip_m > 0.0 {
-                ledger
-                    .iter()
-                    .enumerate()
-                    .filter(|(b, _)| (*b as f64 + 0.5) * strip_m >= s.x_m)
-                    .map(|(_, e)| e)
-                    .sum()
-            } else {
-                0.0
-            });
+            sample.shore_area_m2.push(sim.water_area_right_of_m2(s.x_m));
+            sample
+                .shore_ledger_m2
+                .push(sim.numerics_area_change_right_of_m2(s.x_m));
             sample.eta_m.push(super::surface_elevation(sim, s.x_m));
             sample.flux.push(flux);
             sample.wet.push(wet);

@@ -10,7 +10,7 @@
 //! in the status; the thread lives on and obeys the next command.
 
 use crate::case::Case;
-use crate::diagnostics::surf::BreakingDetector;
+use crate::diagnostics::breaking::BreakingDetector;
 use crate::output::recorder::{Frame, FrameRecorder};
 use crate::output::rrd::{RrdLogger, Viewing};
 use crate::output::surf::{SurfRecorder, log_profiles};

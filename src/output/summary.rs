@@ -35,7 +35,7 @@ pub struct Summary {
     pub gauges: Vec<GaugeSummary>,
     /// Breaking on a beach: Iribarren number, predicted and observed type, breaking point.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub breaking: Option<crate::diagnostics::surf::BreakingSummary>,
+    pub breaking: Option<crate::diagnostics::breaking::BreakingSummary>,
     /// Wave height, mean level and undertow averaged over whole periods after the spin-up.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub surf: Option<super::surf::SurfSummary>,

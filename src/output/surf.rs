@@ -5,9 +5,8 @@
 
 use super::colormap::ColorScale;
 use super::rrd::RrdLogger;
-use crate::diagnostics::surf::{
-    BreakingDetector, BreakingSummary, SurfaceProfile, surface_profile,
-};
+use crate::diagnostics::breaking::{BreakingDetector, BreakingSummary};
+use crate::diagnostics::surface::{SurfaceProfile, still_shoreline_x_m, surface_profile};
 use crate::diagnostics::undertow::{Stations, UndertowSummary};
 use crate::simulation::Simulation;
 use rerun::archetypes::{Image, LineStrips2D, TextDocument};
@@ -203,11 +202,7 @@ impl SurfRecorder {
             }
         }
         // The width of the water surface at rest: paddle to still shoreline (or the far wall).
-        let shoreline = case.flume.beach.as_ref().map_or(case.flume.length_m, |b| {
-            let level = case.still_level_at(b.toe_x_m).unwrap_or(0.0);
-            (b.toe_x_m + level / b.slope).min(case.flume.length_m)
-        });
-        let width = (shoreline - w.x_m).max(1e-9);
+        let width = (still_shoreline_x_m(case) - w.x_m).max(1e-9);
         let in_window: Vec<f64> = self
             .volume_change
             .iter()

@@ -98,9 +98,46 @@ impl GaugeWriter {
     }
 }
 
+/// Time series of a run's gauges and probes: `columns[j][i]` is column `j` at `t_s[i]`
+/// (`None` where the gauge was dry). Column names as in `gauges.csv`.
+#[derive(Debug, Clone, Default)]
+pub struct GaugeRecord {
+    pub t_s: Vec<f64>,
+    pub names: Vec<String>,
+    pub columns: Vec<Vec<Option<f64>>>,
+}
+
+impl GaugeRecord {
+    /// The elevation gauges, `(x, column)`, in the order of the record.
+    pub fn elevation_gauges(&self) -> Vec<(f64, &[Option<f64>])> {
+        self.names
+            .iter()
+            .zip(&self.columns)
+            .filter_map(|(n, c)| {
+                let x = n.strip_prefix("eta_")?.parse().ok()?;
+                Some((x, c.as_slice()))
+            })
+            .collect()
+    }
+
+    /// The horizontal-velocity probes, `(x, y, column)`.
+    pub fn u_probes(&self) -> Vec<(f64, f64, &[Option<f64>])> {
+        self.names
+            .iter()
+            .zip(&self.columns)
+            .filter_map(|(n, c)| {
+                let mut parts = n.strip_prefix("u_")?.split('_');
+                let x = parts.next()?.parse().ok()?;
+                let y = parts.next()?.parse().ok()?;
+                Some((x, y, c.as_slice()))
+            })
+            .collect()
+    }
+}
+
 /// Reads a `gauges.csv` written by [`GaugeWriter`]: every column after `t_s`, empty cells as
 /// dry (`None`).
-pub fn read_gauges(path: &Path) -> std::io::Result<crate::diagnostics::wave_checks::GaugeRecord> {
+pub fn read_gauges(path: &Path) -> std::io::Result<GaugeRecord> {
     let bad = |m: String| std::io::Error::new(std::io::ErrorKind::InvalidData, m);
     let text = std::fs::read_to_string(path)?;
     let mut lines = text.lines().filter(|l| !l.starts_with('#'));
@@ -111,7 +148,7 @@ pub fn read_gauges(path: &Path) -> std::io::Result<crate::diagnostics::wave_chec
             path.display()
         )));
     }
-    let mut record = crate::diagnostics::wave_checks::GaugeRecord {
+    let mut record = GaugeRecord {
         names: header[1..].iter().map(|s| s.to_string()).collect(),
         columns: vec![Vec::new(); header.len() - 1],
         ..Default::default()

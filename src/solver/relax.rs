@@ -59,7 +59,7 @@ pub(crate) struct AreaLedger {
 }
 
 /// Area of the part of a triangle with x < c.
-pub(crate) fn area_left_of(p: [Vector2<f64>; 3], c: f64) -> f64 {
+fn area_left_of(p: [Vector2<f64>; 3], c: f64) -> f64 {
     // Clip the triangle by the half-plane x < c (Sutherland–Hodgman) and take the area.
     let mut poly: [Vector2<f64>; 4] = [Vector2::zeros(); 4];
     let mut n = 0;
@@ -151,6 +151,37 @@ impl Solver {
     /// The width of the ledger's strips, m (0 until the first step).
     pub fn area_ledger_strip_m(&self) -> f64 {
         self.ledger.strip_m
+    }
+
+    /// The ledger's balance over the strips whose centre lies at or right of `x_m`, m²: what
+    /// the numerics changed of the water area there since t = 0, net of what the relaxation
+    /// paid back. 0 unless `volume_relaxation_s` > 0, and before the first step.
+    pub fn area_ledger_right_of_m2(&self, x_m: f64) -> f64 {
+        let strip_m = self.ledger.strip_m;
+        if strip_m > 0.0 {
+            self.ledger
+                .error_m2
+                .iter()
+                .enumerate()
+                .filter(|(b, _)| (*b as f64 + 0.5) * strip_m >= x_m)
+                .map(|(_, e)| e)
+                .sum()
+        } else {
+            0.0
+        }
+    }
+
+    /// The kept mesh's area right of the vertical line x = `x_m`, with the nodes at
+    /// `position`: every triangle's area less its part left of the line, m².
+    pub fn mesh_area_right_of_m2(&self, position: &[Vector2<f64>], x_m: f64) -> f64 {
+        self.mesh
+            .triangles
+            .iter()
+            .map(|t| {
+                let q = t.map(|i| position[i as usize]);
+                crate::fem::triangle_area(position, t) - area_left_of(q, x_m)
+            })
+            .sum()
     }
 
     /// Before the first step's node stage: the strip areas of the initial mesh.

@@ -14,7 +14,8 @@
 //! Otherwise there is no coefficient (an empty cell).
 
 use crate::case::{Case, WaveTheory};
-use crate::diagnostics::wave_checks::{GaugeRecord, harmonic_fit};
+use crate::output::timeseries::GaugeRecord;
+use crate::validation::harmonic_fit;
 use nalgebra::Complex;
 use std::f64::consts::TAU;
 

@@ -1,140 +1,15 @@
-//! Surf-zone observers: the free surface of the main body sampled along x, breaking onset and
-//! breaker type, and the period-averaged flow at undertow stations.
+//! The breaker detector: breaking onset on a beach, each breaker followed for half a period
+//! and classified by what its front did, and the run's breaking summary.
 //!
-//! All of them read the simulation between steps; none changes it. Heights here are absolute
-//! (m above the flume floor) unless a name says "above still water".
+//! It reads the surface profile of each output frame ([`super::surface`]) and the simulation;
+//! it changes neither.
 
+mod frame;
+
+use super::surface::{SurfaceProfile, still_shoreline_x_m};
 use crate::simulation::Simulation;
 use crate::waves::breaker::{self, BreakerType};
-use nalgebra::Vector2;
-
-/// The free surface of the main body of water at one instant, sampled every `dx_m` from x = 0.
-///
-/// Each sample holds the crossings of the vertical line with the outer boundary of the main
-/// body, wall–wall edges left out (the bed and the walls are not free surface) and the edges of
-/// enclosed air cavities left out (they are reported in `cavities`). One crossing is an ordinary
-/// surface; three or more mean the surface folds over the line: an overturning face or jet.
-#[derive(Debug, Clone, Default)]
-pub struct SurfaceProfile {
-    pub dx_m: f64,
-    /// Per sample: (y, u1) at each crossing, highest first; y in m, u1 in m/s.
-    pub crossings: Vec<Vec<(f64, f64)>>,
-    /// Enclosed air cavities of the main body larger than 3 h²: (centroid, area in m²).
-    pub cavities: Vec<(Vector2<f64>, f64)>,
-}
-
-impl SurfaceProfile {
-    pub fn x_m(&self, k: usize) -> f64 {
-        k as f64 * self.dx_m
-    }
-
-    /// Height of the highest crossing at sample `k` (`None` where no water stands).
-    pub fn top(&self, k: usize) -> Option<f64> {
-        self.crossings[k].first().map(|c| c.0)
-    }
-
-    /// Height of the top at sample `k` when it is a crest: at least its left neighbour's and
-    /// above its right one's (`None` otherwise, at the ends, or where no water stands).
-    pub fn crest(&self, k: usize) -> Option<f64> {
-        let top = |j: usize| self.crossings.get(j)?.first().map(|c| c.0);
-        let (y, left, right) = (top(k)?, top(k.checked_sub(1)?)?, top(k + 1)?);
-        (y >= left && y > right).then_some(y)
-    }
-
-    /// The sample nearest to `x_m`.
-    pub fn index(&self, x_m: f64) -> usize {
-        ((x_m / self.dx_m).round().max(0.0) as usize).min(self.crossings.len().saturating_sub(1))
-    }
-}
-
-/// Samples the free surface of the main body of `sim` every `dx_m`.
-pub fn surface_profile(sim: &Simulation, dx_m: f64) -> SurfaceProfile {
-    let p = &sim.particles;
-    let mesh = &sim.solver.mesh;
-    let h = sim.case.particles.spacing_m;
-    let samples = (sim.case.flume.length_m / dx_m).floor() as usize + 1;
-    let mut out = SurfaceProfile {
-        dx_m,
-        crossings: vec![Vec::new(); samples],
-        cavities: Vec::new(),
-    };
-    let (label, main) = mesh.main_body(p);
-    let Some(main) = main else {
-        return out;
-    };
-    // Boundary loops of the main body: boundary edges joined through shared nodes. Edges run
-    // with the water on their left, so a loop's Σ (x_a y_b − x_b y_a)/2 is its enclosed area,
-    // positive for the outer boundary and negative around a hole.
-    let edges: Vec<[usize; 2]> = mesh
-        .boundary_edges
-        .iter()
-        .map(|e| [e[0] as usize, e[1] as usize])
-        .filter(|e| label[e[0]] == main && label[e[1]] == main)
-        .collect();
-    let mut parent: Vec<usize> = (0..edges.len()).collect();
-    fn find(parent: &mut [usize], mut i: usize) -> usize {
-        while parent[i] != i {
-            parent[i] = parent[parent[i]];
-            i = parent[i];
-        }
-        i
-    }
-    let mut first_edge_at = std::collections::HashMap::with_capacity(2 * edges.len());
-    for (k, e) in edges.iter().enumerate() {
-        for v in e {
-            if let Some(&other) = first_edge_at.get(v) {
-                let (a, b) = (find(&mut parent, k), find(&mut parent, other));
-                parent[a] = b;
-            } else {
-                first_edge_at.insert(*v, k);
-            }
-        }
-    }
-    let mut area = vec![0.0; edges.len()];
-    let mut centroid = vec![Vector2::zeros(); edges.len()];
-    let mut all_fluid = vec![true; edges.len()];
-    for (k, e) in edges.iter().enumerate() {
-        let r = find(&mut parent, k);
-        let (a, b) = (p.position[e[0]], p.position[e[1]]);
-        let cross = a.x * b.y - b.x * a.y;
-        area[r] += 0.5 * cross;
-        centroid[r] += (a + b) * cross / 6.0;
-        all_fluid[r] &= p.is_fluid(e[0]) && p.is_fluid(e[1]);
-    }
-    let mut is_hole = vec![false; edges.len()];
-    for k in 0..edges.len() {
-        if parent[k] == k && area[k] < 0.0 {
-            is_hole[k] = true;
-            if all_fluid[k] && -area[k] > 3.0 * h * h {
-                out.cavities.push((centroid[k] / area[k], -area[k]));
-            }
-        }
-    }
-    for (k, e) in edges.iter().enumerate() {
-        if is_hole[find(&mut parent, k)] || (!p.is_fluid(e[0]) && !p.is_fluid(e[1])) {
-            continue;
-        }
-        let (a, b) = (p.position[e[0]], p.position[e[1]]);
-        let (ua, ub) = (p.velocity[e[0]].x, p.velocity[e[1]].x);
-        let (lo, hi) = if a.x <= b.x { (a.x, b.x) } else { (b.x, a.x) };
-        if hi == lo {
-            continue;
-        }
-        // Samples with lo ≤ x < hi: a line through a node is crossed once, not twice.
-        let first = (lo / dx_m).ceil().max(0.0) as usize;
-        let mut s = first;
-        while s < samples && (s as f64) * dx_m < hi {
-            let x = s as f64 * dx_m;
-            let f = (x - a.x) / (b.x - a.x);
-            out.crossings[s].push((a.y + f * (b.y - a.y), ua + f * (ub - ua)));
-            s += 1;
-        }
-    }
-    for c in &mut out.crossings {
-        c.sort_by(|a, b| b.0.total_cmp(&a.0));
-    }
-    out
-}
+use frame::{Frame, Onset};
 
 /// What one breaker did, measured from the surface.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -287,26 +162,6 @@ impl OnsetTracker {
     }
 }
 
-/// The crest followed from `from_x_m`: the first local maximum of the top surface at or
-/// shoreward of `from_x_m − back_m` that stands at least `min_y` high, between samples `k_min`
-/// and `k_max`.
-pub fn follow_crest(
-    profile: &SurfaceProfile,
-    from_x_m: f64,
-    back_m: f64,
-    min_y: f64,
-    k_min: usize,
-    k_max: usize,
-) -> Option<f64> {
-    let k0 = profile.index(from_x_m - back_m).max(k_min + 1);
-    (k0..k_max).find_map(|k| {
-        profile
-            .crest(k)
-            .filter(|y| *y >= min_y)
-            .map(|_| profile.x_m(k))
-    })
-}
-
 /// Watches every output frame for breaking; one per run.
 #[derive(Debug, Clone)]
 pub struct BreakingDetector {
@@ -404,7 +259,7 @@ impl BreakingDetector {
         out.predicted = Some(breaker::predicted_type(out.iribarren));
         let level = case.still_level_at(beach.toe_x_m).unwrap_or(0.0);
         let depth = case.paddle_depth_m().unwrap_or(level);
-        out.shoreline_x_m = beach.toe_x_m + level / beach.slope;
+        out.shoreline_x_m = still_shoreline_x_m(case);
         let wavelength = crate::waves::linear::wavelength(w.period_s, depth, g).unwrap_or(0.0);
         let celerity = wavelength / w.period_s;
         let h = case.particles.spacing_m;
@@ -439,192 +294,76 @@ impl BreakingDetector {
     }
 
     /// Looks at one frame; returns the events to log (onset, classification).
+    ///
+    /// In order: the run-up; the breaker being watched, followed and, once its half period is
+    /// over, classified; then this frame's most seaward breaking crest, which starts a new
+    /// watch when it is a new wave's onset, after the ramped first waves, with no breaker
+    /// being watched.
     pub fn observe(&mut self, sim: &Simulation, profile: &SurfaceProfile) -> Vec<String> {
         let Some(s) = self.setup.clone() else {
             return Vec::new();
         };
-        let t = sim.time_s;
         let mut events = Vec::new();
-        // Run-up: the highest water shoreward of the still shoreline.
+        self.record_run_up(&s, profile);
+        let frame = Frame::new(sim, profile, &s);
+        events.extend(self.follow_watched(&frame));
+        let onset = frame.most_seaward_onset();
+        let new = self.offer_onset(&frame, onset.as_ref());
+        if !new || frame.t < s.gate_s || self.watch.is_some() {
+            return events;
+        }
+        let Some(onset) = onset else {
+            return events;
+        };
+        events.push(self.start_watch(&frame, &onset));
+        events
+    }
+
+    /// Run-up: the highest water above still level shoreward of the still shoreline.
+    fn record_run_up(&mut self, s: &BeachSetup, profile: &SurfaceProfile) {
         let k0 = profile.index(self.shoreline_x_m);
         for k in k0..profile.crossings.len() {
             if let Some(y) = profile.top(k) {
                 self.run_up_m = self.run_up_m.max(y - s.level_m);
             }
         }
-        let k_min = profile.index(s.x_min_m);
-        let k_max = profile.index(s.x_max_m);
-        let span = |m: f64| ((m / profile.dx_m).round() as usize).max(1);
-        let face_span = span(s.jet_m());
+    }
 
-        // Overturned runs: contiguous samples with three or more crossings, kept when the
-        // water on top of them moves shoreward on average. A breaker's jet is thrown ahead of
-        // its crest; the roller of the backwash meeting the next wave folds seaward.
-        // Each run: (start x, end x, its highest top), m.
-        let mut runs: Vec<(f64, f64, f64)> = Vec::new();
-        let mut start: Option<usize> = None;
-        let (mut top_u1, mut top_y) = (0.0, f64::NEG_INFINITY);
-        for k in k_min..=k_max + 1 {
-            let folded = k <= k_max && profile.crossings[k].len() >= 3;
-            match (folded, start) {
-                (true, None) => {
-                    start = Some(k);
-                    (top_u1, top_y) = (profile.crossings[k][0].1, profile.crossings[k][0].0);
-                }
-                (true, Some(_)) => {
-                    top_u1 += profile.crossings[k][0].1;
-                    top_y = top_y.max(profile.crossings[k][0].0);
-                }
-                (false, Some(a)) => {
-                    if top_u1 > 0.0 {
-                        runs.push((profile.x_m(a), profile.x_m(k), top_y));
-                    }
-                    start = None;
-                }
-                (false, None) => {}
-            }
+    /// The breaker being watched: follows its crest and collects what its front does near
+    /// it; once its half period is over, classifies it, keeps it and ends the watch. Returns
+    /// the classification's event.
+    fn follow_watched(&mut self, f: &Frame) -> Option<String> {
+        let w = self.watch.as_mut()?;
+        w.follow(f);
+        if f.t < w.until_s {
+            return None;
         }
-        let steep = |k: usize| -> bool {
-            let (Some(a), Some(b)) = (profile.top(k), profile.top(k + face_span)) else {
-                return false;
-            };
-            (a - b) / (face_span as f64 * profile.dx_m) > 3f64.sqrt()
-        };
-        let depth_at = |x: f64| s.level_m - sim.case.bed_y_at(x);
+        let b = w.classified();
+        self.breakers.push(b);
+        self.watch = None;
+        Some(classified_event(&b))
+    }
 
-        // The breaker being watched: follow its crest for half a period and collect its
-        // longest fold, an air cavity and a steep face near it (from H_b behind the crest to
-        // 3 H_b ahead: a plunging jet lands about one to two wave heights ahead of it).
-        if let Some(w) = &mut self.watch {
-            let hb = w.breaker.height_b_m.max(2.0 * s.h);
-            if let Some(x) = follow_crest(
-                profile,
-                w.crest_x_m,
-                2.0 * s.h,
-                s.level_m + 0.1 * s.height_m,
-                k_min,
-                k_max,
-            ) {
-                w.crest_x_m = x;
-            }
-            let (lo, hi) = (w.crest_x_m - hb, w.crest_x_m + 3.0 * hb);
-            for (a, b, top) in &runs {
-                if *b >= lo && *a <= hi {
-                    if b - a > w.breaker.overturn_reach_m {
-                        w.breaker.overturn_reach_m = b - a;
-                        w.breaker.overturn_top_m = top - w.trough_m;
-                    }
-                    if b - a >= s.jet_m() && w.breaker.fold_x_m.is_none() {
-                        w.breaker.fold_x_m = Some(w.crest_x_m);
-                        w.breaker.fold_h_m = Some(depth_at(w.crest_x_m).max(0.0));
-                        w.breaker.fold_t_s = Some(t);
-                    }
-                }
-            }
-            if profile.cavities.iter().any(|(c, _)| c.x >= lo && c.x <= hi) {
-                w.breaker.cavity = true;
-            }
-            let (k_lo, k_hi) = (profile.index(lo).max(k_min), profile.index(hi).min(k_max));
-            if (k_lo..k_hi.saturating_sub(face_span)).any(steep) {
-                w.breaker.steep_face = true;
-            }
-            if t >= w.until_s {
-                let mut b = w.breaker;
-                b.observed = classify(
-                    b.h_b_m,
-                    b.height_b_m,
-                    b.overturn_reach_m,
-                    b.overturn_top_m,
-                    b.cavity,
-                );
-                events.push(format!(
-                    "breaker at t = {:.2} s classified {}: jet reach {:.3} m, its top {:.3} m above the trough, air cavity {}, front steeper than 60°: {}",
-                    b.t_b_s,
-                    b.observed.name(),
-                    b.overturn_reach_m,
-                    b.overturn_top_m,
-                    if b.cavity { "yes" } else { "no" },
-                    if b.steep_face { "yes" } else { "no" },
-                ));
-                self.breakers.push(b);
-                self.watch = None;
-            }
-        }
-
-        // The most seaward breaking crest of this frame: a local maximum of the top surface at
-        // least H/4 above still water with a fold, a steep face or a fast crest by it.
-        let mut onset: Option<(f64, &'static str, f64, f64)> = None;
-        let mut k = k_min + 1;
-        while k < k_max && onset.is_none() {
-            let Some(y) = profile
-                .crest(k)
-                .filter(|y| y - s.level_m >= 0.25 * s.height_m)
-            else {
-                k += 1;
-                continue;
-            };
-            let x = profile.x_m(k);
-            let crest_above = y - s.level_m;
-            let depth = depth_at(x);
-            // The crest's own front: its folds up to 3 H ahead (where a jet lands), its face up
-            // to 2 H ahead.
-            let (reach_near, top_near) = runs
-                .iter()
-                .filter(|(a, b, _)| *b >= x - 2.0 * s.h && *a <= x + 3.0 * s.height_m)
-                .map(|(a, b, top)| (b - a, *top))
-                .fold(
-                    (0.0, f64::NEG_INFINITY),
-                    |m, r| if r.0 > m.0 { r } else { m },
-                );
-            let steep_near = (k..(k + span(2.0 * s.height_m)))
-                .take_while(|&j| j + face_span <= k_max)
-                .any(steep);
-            if reach_near >= s.jet_m() {
-                onset = Some((x, "overturning", reach_near, top_near));
-            } else if steep_near {
-                onset = Some((x, "steep_face", 0.0, 0.0));
-            } else if depth >= 0.5 * s.height_m {
-                // Kinematic: the fastest fluid particle of the crest against the crest's speed,
-                // linear celerity at the local depth with the finite-amplitude factor.
-                let c = crate::waves::linear::celerity(s.period_s, depth, s.g).unwrap_or(f64::NAN)
-                    * (1.0 + crest_above / depth).sqrt();
-                let p = &sim.particles;
-                let u = (0..p.len())
-                    .filter(|&i| p.is_fluid(i) && sim.solver.mesh.in_mesh[i])
-                    .filter(|&i| {
-                        let q = p.position[i];
-                        (q.x - x).abs() <= 2.0 * s.h && q.y >= y - 2.0 * s.h
-                    })
-                    .map(|i| p.velocity[i].x)
-                    .fold(f64::NEG_INFINITY, f64::max);
-                if u >= 0.85 * c {
-                    onset = Some((x, "kinematic", 0.0, 0.0));
-                }
-            }
-            k += 1;
-        }
-        // A new wave's onset lies a quarter of its wavelength or more seaward of the last
-        // frame's breaking crest.
-        let jump = onset.map_or(0.0, |(x, _, _, _)| {
-            0.25 * s.period_s * (s.g * (depth_at(x).max(s.h) + s.height_m)).sqrt()
+    /// Offers this frame's most seaward breaking crest to the onset tracker: true for a new
+    /// wave's onset. A new wave's onset lies a quarter of its wavelength or more seaward of
+    /// the last frame's breaking crest.
+    fn offer_onset(&mut self, f: &Frame, onset: Option<&Onset>) -> bool {
+        let s = f.s;
+        let jump = onset.map_or(0.0, |o| {
+            0.25 * s.period_s * (s.g * (f.depth_at(o.x_m).max(s.h) + s.height_m)).sqrt()
         });
-        let new = self
-            .tracker
-            .offer(t, onset.map(|o| o.0), jump, 0.5 * s.period_s);
-        if !new || t < s.gate_s || self.watch.is_some() {
-            return events;
-        }
-        let Some((x_b, trigger, reach_b, top_b)) = onset else {
-            return events;
-        };
-        let depth = depth_at(x_b).max(0.0);
-        let k_b = profile.index(x_b);
-        let wavelength = s.period_s * (s.g * depth.max(s.h)).sqrt();
-        let k_back = profile.index(x_b - 0.5 * wavelength).max(k_min);
-        let crest = profile.top(k_b).unwrap_or(s.level_m);
-        let trough = (k_back..=k_b)
-            .filter_map(|k| profile.top(k))
-            .fold(crest, f64::min);
+        self.tracker
+            .offer(f.t, onset.map(|o| o.x_m), jump, 0.5 * s.period_s)
+    }
+
+    /// Starts watching the breaker of a new onset: its still depth, and its height over the
+    /// lowest top within half a wavelength behind it. Returns the onset's event.
+    fn start_watch(&mut self, f: &Frame, onset: &Onset) -> String {
+        let (s, t) = (f.s, f.t);
+        let (x_b, trigger) = (onset.x_m, onset.trigger);
+        let depth = f.depth_at(x_b).max(0.0);
+        let (crest, trough) = f.crest_and_trough(x_b, depth);
+        let overturning = trigger == "overturning";
         let breaker = Breaker {
             observed: BreakerType::Spilling,
             onset: trigger,
@@ -632,33 +371,29 @@ impl BreakingDetector {
             h_b_m: depth,
             height_b_m: crest - trough,
             t_b_s: t,
-            overturn_reach_m: if trigger == "overturning" {
-                reach_b
-            } else {
-                0.0
-            },
-            overturn_top_m: if trigger == "overturning" {
-                top_b - trough
+            overturn_reach_m: if overturning { onset.reach_m } else { 0.0 },
+            overturn_top_m: if overturning {
+                onset.top_m - trough
             } else {
                 0.0
             },
             cavity: false,
             steep_face: trigger == "steep_face",
-            fold_x_m: (trigger == "overturning").then_some(x_b),
-            fold_h_m: (trigger == "overturning").then_some(depth),
-            fold_t_s: (trigger == "overturning").then_some(t),
+            fold_x_m: overturning.then_some(x_b),
+            fold_h_m: overturning.then_some(depth),
+            fold_t_s: overturning.then_some(t),
         };
-        events.push(format!(
+        let event = format!(
             "breaking onset ({trigger}) at t = {t:.2} s, x = {x_b:.3} m, still depth {depth:.3} m, crest height {:.3} m",
             breaker.height_b_m
-        ));
+        );
         self.watch = Some(Watch {
             breaker,
             until_s: t + 0.5 * s.period_s,
             crest_x_m: x_b,
             trough_m: trough,
         });
-        events
+        event
     }
 
     /// The summary of the run (`None` without a beach and a wavemaker). `x_origin_m` shifts
@@ -727,6 +462,19 @@ impl BreakingDetector {
     }
 }
 
+/// The event of a classified breaker.
+fn classified_event(b: &Breaker) -> String {
+    format!(
+        "breaker at t = {:.2} s classified {}: jet reach {:.3} m, its top {:.3} m above the trough, air cavity {}, front steeper than 60°: {}",
+        b.t_b_s,
+        b.observed.name(),
+        b.overturn_reach_m,
+        b.overturn_top_m,
+        if b.cavity { "yes" } else { "no" },
+        if b.steep_face { "yes" } else { "no" },
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -769,31 +517,5 @@ mod tests {
         assert_eq!(jet_length_m(0.02, 0.128), 0.04);
         assert!((jet_length_m(0.016, 0.125) - 0.0375).abs() < 1e-15);
         assert!((jet_length_m(0.01, 0.125) - 0.0375).abs() < 1e-15);
-    }
-
-    #[test]
-    fn the_followed_crest_is_the_next_one_shoreward() {
-        // Two crests 0.02 m high, at x = 1.0 and 3.0 m, on a level of 0.
-        let dx = 0.01;
-        let crossings = (0..=400)
-            .map(|k| {
-                let x = k as f64 * dx;
-                let y = 0.02 * (-((x - 1.0) / 0.2).powi(2)).exp()
-                    + 0.02 * (-((x - 3.0) / 0.2).powi(2)).exp();
-                vec![(y, 0.0)]
-            })
-            .collect();
-        let profile = SurfaceProfile {
-            dx_m: dx,
-            crossings,
-            cavities: Vec::new(),
-        };
-        let crest = |from: f64| follow_crest(&profile, from, 0.04, 0.01, 0, 400);
-        // From just shoreward of a crest, it is found within the allowed step back.
-        assert!((crest(1.02).unwrap() - 1.0).abs() < 1e-9);
-        // From further shoreward, the next crest is taken.
-        assert!((crest(1.2).unwrap() - 3.0).abs() < 1e-9);
-        // Nothing high enough shoreward of the last crest.
-        assert_eq!(crest(3.3), None);
     }
 }

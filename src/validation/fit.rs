@@ -1,0 +1,147 @@
+//! The fits and wave statistics the checks share: the first harmonic of a record, zero-crossing
+//! statistics over a window, values under the crests, a line through points, phases unwrapped
+//! along the flume, and the window of the last whole periods.
+
+use super::CheckError;
+use crate::diagnostics::{WaveStats, wave_stats};
+use crate::output::timeseries::GaugeRecord;
+use std::f64::consts::TAU;
+
+/// Least-squares fit of `c + a cos ωt + b sin ωt` to the wet samples with t in `window`.
+/// Returns `(mean, amplitude, phase)` with the signal ≈ mean + amplitude·cos(ωt − phase),
+/// or `None` with fewer than 8 samples.
+pub fn harmonic_fit(
+    t_s: &[f64],
+    y: &[Option<f64>],
+    omega_rad_s: f64,
+    window_s: [f64; 2],
+) -> Option<(f64, f64, f64)> {
+    let mut m = nalgebra::Matrix3::<f64>::zeros();
+    let mut r = nalgebra::Vector3::<f64>::zeros();
+    let mut n = 0usize;
+    for (t, v) in t_s.iter().zip(y) {
+        let Some(v) = v else { continue };
+        if *t < window_s[0] || *t > window_s[1] {
+            continue;
+        }
+        let basis = nalgebra::Vector3::new(1.0, (omega_rad_s * t).cos(), (omega_rad_s * t).sin());
+        m += basis * basis.transpose();
+        r += basis * *v;
+        n += 1;
+    }
+    if n < 8 {
+        return None;
+    }
+    let c = m.lu().solve(&r)?;
+    Some((c[0], c[1].hypot(c[2]), c[2].atan2(c[1])))
+}
+
+/// Zero-crossing heights and the mean period over `window` (at most `last_waves` waves).
+pub(super) fn crossing_stats(
+    t_s: &[f64],
+    eta: &[Option<f64>],
+    window_s: [f64; 2],
+) -> Option<WaveStats> {
+    let (t, e): (Vec<f64>, Vec<Option<f64>>) = t_s
+        .iter()
+        .zip(eta)
+        .filter(|(t, _)| **t <= window_s[1])
+        .map(|(t, e)| (*t, *e))
+        .unzip();
+    wave_stats(&t, &e, window_s[0], 10_000)
+}
+
+/// Mean of the column at the times of the crests of `eta` within `window` (each crest the
+/// highest wet sample between two up-crossings of the mean level).
+pub(super) fn mean_at_crests(
+    t_s: &[f64],
+    eta: &[Option<f64>],
+    column: &[Option<f64>],
+    window_s: [f64; 2],
+) -> Option<f64> {
+    let idx: Vec<usize> = (0..t_s.len())
+        .filter(|&i| t_s[i] >= window_s[0] && t_s[i] <= window_s[1] && eta[i].is_some())
+        .collect();
+    if idx.len() < 3 {
+        return None;
+    }
+    let mean = idx.iter().map(|&i| eta[i].unwrap_or(0.0)).sum::<f64>() / idx.len() as f64;
+    let ups: Vec<usize> = idx
+        .windows(2)
+        .filter(|w| eta[w[0]].unwrap_or(0.0) < mean && eta[w[1]].unwrap_or(0.0) >= mean)
+        .map(|w| w[1])
+        .collect();
+    let mut values = Vec::new();
+    for w in ups.windows(2) {
+        let crest = idx
+            .iter()
+            .copied()
+            .filter(|&i| i >= w[0] && i < w[1])
+            .max_by(|&a, &b| eta[a].unwrap_or(0.0).total_cmp(&eta[b].unwrap_or(0.0)))?;
+        if let Some(v) = column[crest] {
+            values.push(v);
+        }
+    }
+    (!values.is_empty()).then(|| values.iter().sum::<f64>() / values.len() as f64)
+}
+
+/// Least-squares line through `(x, y)`: `(slope, intercept)`.
+pub(super) fn line_fit(points: &[(f64, f64)]) -> (f64, f64) {
+    let n = points.len() as f64;
+    let mx = points.iter().map(|p| p.0).sum::<f64>() / n;
+    let my = points.iter().map(|p| p.1).sum::<f64>() / n;
+    let sxy: f64 = points.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    let sxx: f64 = points.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    let slope = sxy / sxx;
+    (slope, my - slope * mx)
+}
+
+/// Unwraps phases measured at increasing x so that each step is the one nearest `k Δx`
+/// (the choice of the multiple of 2π only; the fit then measures k).
+pub(super) fn unwrap_phases(points: &[(f64, f64)], k_guess: f64) -> Vec<(f64, f64)> {
+    let mut out: Vec<(f64, f64)> = Vec::with_capacity(points.len());
+    for &(x, p) in points {
+        let q = match out.last() {
+            None => p,
+            Some(&(x0, p0)) => {
+                let expected = p0 + k_guess * (x - x0);
+                p + TAU * ((expected - p) / TAU).round()
+            }
+        };
+        out.push((x, q));
+    }
+    out
+}
+
+/// The last `periods` whole periods of the record.
+pub(super) fn last_periods(
+    record: &GaugeRecord,
+    period_s: f64,
+    periods: f64,
+) -> Result<[f64; 2], CheckError> {
+    let end = record.t_s.last().copied().unwrap_or(0.0);
+    let start = end - periods * period_s;
+    if start <= 0.0 {
+        return Err(CheckError::TooShort(format!(
+            "{periods} periods of {period_s} s need more than the {end:.2} s recorded"
+        )));
+    }
+    Ok([start, end])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::PI;
+
+    #[test]
+    fn harmonic_fit_recovers_amplitude_and_phase() {
+        let t: Vec<f64> = (0..4000).map(|i| i as f64 * 0.01).collect();
+        let y: Vec<Option<f64>> = t
+            .iter()
+            .map(|t| Some(0.2 + 0.03 * (2.0 * t - 0.7).cos() + 0.005 * (4.0 * t).sin()))
+            .collect();
+        let (m, a, p) = harmonic_fit(&t, &y, 2.0, [0.0, 10.0 * PI]).unwrap();
+        assert!((m - 0.2).abs() < 1e-4 && (a - 0.03).abs() < 1e-4 && (p - 0.7).abs() < 1e-3);
+    }
+}
