@@ -114,6 +114,16 @@ impl WavemakerSettings {
                 format!("must be a positive number, got {}", w.period_s),
             );
         }
+        // The motion is designed (and its excursion sampled) over the whole ramp.
+        if !(0.0..=MAX_RAMP_PERIODS).contains(&w.ramp_periods) {
+            return err(
+                "wavemaker.ramp_periods",
+                format!(
+                    "must lie in [0, {MAX_RAMP_PERIODS}] periods, got {}",
+                    w.ramp_periods
+                ),
+            );
+        }
         let Some(depth) = depth_m.filter(|d| *d > 2.0 * h) else {
             return err(
                 "wavemaker.x_m",
@@ -154,6 +164,9 @@ impl WavemakerSettings {
         Ok(())
     }
 }
+
+/// The longest start-up ramp, in periods: longer than any run, and short enough to sample.
+pub const MAX_RAMP_PERIODS: f64 = 100.0;
 
 fn default_ramp_periods() -> f64 {
     2.0
