@@ -108,7 +108,8 @@ pub fn run(opts: LabOptions) -> anyhow::Result<()> {
     let screenshot_mode = screenshot.is_some();
     let after = opts.screenshot_after_s;
     let record_path = opts.record_path.clone();
-    let autorun = true;
+    // A screenshot run first measures the window with the solver paused, then starts it.
+    let autorun = !screenshot_mode;
     eframe::run_native(
         "surflab",
         window_options("surflab", screenshot_mode),
@@ -125,6 +126,8 @@ pub fn run(opts: LabOptions) -> anyhow::Result<()> {
                     after_s: after,
                     requested: false,
                     opened: Instant::now(),
+                    paused_frames: 0,
+                    paused_since: None,
                     frames_running: 0,
                     running_since: None,
                 }),
@@ -211,11 +214,18 @@ pub(super) fn tokio_runtime() -> anyhow::Result<tokio::runtime::Runtime> {
         .build()?)
 }
 
+/// How long a screenshot run measures the window with the solver paused.
+const PAUSED_MEASURE: Duration = Duration::from_secs(5);
+
 struct Screenshot {
     path: PathBuf,
     after_s: f64,
     requested: bool,
     opened: Instant,
+    /// Frames drawn with the solver paused, before it starts, and since when: what the
+    /// machine's renderer gives the window on its own.
+    paused_frames: u32,
+    paused_since: Option<Instant>,
     /// Frames drawn since the solver first reported simulated time, and when that was.
     frames_running: u32,
     running_since: Option<Instant>,
@@ -253,6 +263,27 @@ impl LabApp {
         let Some(shot) = self.screenshot.as_mut() else {
             return;
         };
+        // First PAUSED_MEASURE of drawing with the solver paused (after a second to settle),
+        // then the solver runs.
+        let since = *shot
+            .paused_since
+            .get_or_insert_with(|| Instant::now() + Duration::from_secs(1));
+        if shot.running_since.is_none() && self.panel.worker.status.t_s == 0.0 {
+            let now = Instant::now();
+            if now >= since {
+                shot.paused_frames += 1;
+            }
+            if now >= since + PAUSED_MEASURE && !self.panel.worker.status.running {
+                let s = (now - since).as_secs_f64();
+                eprintln!(
+                    "surflab: with the solver paused the window drew {} frames in {s:.1} s ({:.1} \
+                     frames/s)",
+                    shot.paused_frames,
+                    f64::from(shot.paused_frames) / s
+                );
+                self.panel.worker.send(super::worker::Command::Run);
+            }
+        }
         let status = &self.panel.worker.status;
         if status.t_s > 0.0 && !shot.requested {
             shot.running_since.get_or_insert_with(Instant::now);
