@@ -57,12 +57,7 @@ pub fn main(args: SweepArgs) -> Result<(), SweepError> {
             collected.rows.len(),
             if collected.rows.len() == 1 { "" } else { "s" },
             dir.display(),
-            collected
-                .written
-                .iter()
-                .map(|p| p.display().to_string())
-                .collect::<Vec<_>>()
-                .join(", ")
+            collected.written_list()
         );
         return Ok(());
     }

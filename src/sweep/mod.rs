@@ -164,6 +164,17 @@ pub struct Collected {
     pub written: Vec<PathBuf>,
 }
 
+impl Collected {
+    /// The files written, as one comma-separated line.
+    pub fn written_list(&self) -> String {
+        self.written
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
 /// Rebuilds `sweep.csv`, the rows of `sweep.json`, the map and `sweep.rrd` in `dir` from its
 /// run directories and the spec, running nothing.
 pub fn collect(dir: &Path) -> Result<Collected, SweepError> {

@@ -158,12 +158,7 @@ pub fn run_sweep(opts: &SweepOptions) -> Result<SweepOutcome, SweepError> {
         } else {
             ""
         },
-        collected
-            .written
-            .iter()
-            .map(|p| p.display().to_string())
-            .collect::<Vec<_>>()
-            .join(", ")
+        collected.written_list()
     );
     Ok(SweepOutcome {
         dir,
