@@ -27,38 +27,10 @@ fn sloshing_period_matches_linear_theory() {
         max_speed = max_speed.max(integrals(s).max_speed_m_s);
     })
     .expect("sloshing runs");
-    // Downward zero crossings, linearly interpolated.
-    let crossings: Vec<f64> = record
-        .windows(2)
-        .filter(|w| w[0].1 > 0.0 && w[1].1 <= 0.0)
-        .map(|w| w[0].0 + w[0].1 / (w[0].1 - w[1].1) * (w[1].0 - w[0].0))
-        .collect();
-    assert!(crossings.len() >= 4, "{crossings:?}");
-    let n = crossings.len() - 1;
-    let period = (crossings[n] - crossings[0]) / n as f64;
-    // Amplitude per period (half the range between successive crossings), and the damping
-    // rate δ of a(t) = a₀ e^(−δ t), fitted by least squares on ln a.
-    let amps: Vec<(f64, f64)> = crossings
-        .windows(2)
-        .map(|w| {
-            let (lo, hi) = record
-                .iter()
-                .filter(|(t, _)| (w[0]..w[1]).contains(t))
-                .fold((f64::MAX, f64::MIN), |(lo, hi), &(_, e)| {
-                    (lo.min(e), hi.max(e))
-                });
-            (0.5 * (w[0] + w[1]), 0.5 * (hi - lo))
-        })
-        .collect();
-    let m = amps.len() as f64;
-    let (st, sl) = amps
-        .iter()
-        .fold((0.0, 0.0), |(a, b), &(t, y)| (a + t, b + y.ln()));
-    let (tm, lm) = (st / m, sl / m);
-    let (num, den) = amps.iter().fold((0.0, 0.0), |(n, d), &(t, y)| {
-        (n + (t - tm) * (y.ln() - lm), d + (t - tm) * (t - tm))
-    });
-    let damping_per_s = -num / den;
+    let fit = common::fit_oscillation(&record).expect("four zero crossings or more");
+    let (period, amps) = (fit.period_s, &fit.amplitudes);
+    let n = amps.len();
+    let damping_per_s = -fit.growth_per_s;
     let drift = integrals(&sim).volume_m2 / v0 - 1.0;
     let error = period / period_theory - 1.0;
     println!(

@@ -372,7 +372,7 @@ mod tests {
     /// Every optional setting written as 0 (or, for the colour range, an empty list).
     const ALL_OFF: &str = "[solver]\ninsert_radius_h = 0.0\nremove_distance_h = 0\n\
         merge_surface_distance_h = 0.0\nweak_surface_length_h = 0.0\nsurface_filter = 0.0\n\
-        volume_relaxation_s = 0.0\n[time]\nsurface_wave_courant = 0.0\n\
+        volume_relaxation_s = 0.0\ngeometry_theta = 0.0\n[time]\nsurface_wave_courant = 0.0\n\
         [output]\nu1_range_m_s = []\n[surf]\nprofile_dz_m = 0.0\n";
 
     fn assert_all_off(c: &Case) {
@@ -385,10 +385,11 @@ mod tests {
                 s.weak_surface_length_h,
                 s.surface_filter,
                 s.volume_relaxation_s,
+                s.geometry_theta,
                 c.time.surface_wave_courant,
                 c.surf.profile_dz_m,
             ],
-            [None; 8]
+            [None; 9]
         );
         assert_eq!(c.output.u1_range_m_s, None);
     }
@@ -409,6 +410,7 @@ mod tests {
             "solver.weak_surface_length_h=0.0",
             "solver.surface_filter=0",
             "solver.volume_relaxation_s=0",
+            "solver.geometry_theta=0",
             "time.surface_wave_courant=0",
             "output.u1_range_m_s=[]",
             "surf.profile_dz_m=0",
@@ -431,6 +433,8 @@ mod tests {
                 "solver.volume_relaxation_s",
             ),
             ("surf.profile_dz_m=-0.01", "surf.profile_dz_m"),
+            ("solver.geometry_theta=1.5", "solver.geometry_theta"),
+            ("solver.geometry_theta=-0.5", "solver.geometry_theta"),
         ] {
             let msg = parse(MINIMAL, &[o]).unwrap_err().to_string();
             assert!(msg.contains(field), "{o}: {msg}");
@@ -462,6 +466,7 @@ mod tests {
             ("solver", "weak_surface_length_h"),
             ("solver", "surface_filter"),
             ("solver", "volume_relaxation_s"),
+            ("solver", "geometry_theta"),
             ("time", "surface_wave_courant"),
             ("surf", "profile_dz_m"),
         ] {

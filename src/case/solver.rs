@@ -103,6 +103,16 @@ pub struct SolverSettings {
     /// over about T_r (see `solver/relax.rs`). Default off (`None`; 0 in a case file is off too).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub volume_relaxation_s: Option<f64>,
+    /// Implicitness θₓ in (0, 1] of the geometry: after the first pass of the step, the
+    /// element properties, the predictor, the pressure and the correction are computed again on
+    /// the moved positions xⁿ + θₓ Δt uⁿ⁺¹ (one extra pass, as the iterations of Kratos PFEM
+    /// and PFEM3D on the moved mesh), so that the restoring force of the free surface sees
+    /// where the step takes it. With the weak surface, it holds still water at the 10 ms CFL
+    /// step where the explicit geometry grows a surface ripple; it damps a surface wave of
+    /// frequency ω by about θₓ ω² Δt/2 per second (see `solver/step.rs`). Default off
+    /// (`None`; 0 in a case file is off too): the geometry of the step is xⁿ.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub geometry_theta: Option<f64>,
 }
 
 impl Default for SolverSettings {
@@ -126,6 +136,7 @@ impl Default for SolverSettings {
             weak_surface_length_h: None,
             surface_filter: None,
             volume_relaxation_s: None,
+            geometry_theta: None,
         }
     }
 }
@@ -140,6 +151,7 @@ impl SolverSettings {
             &mut self.weak_surface_length_h,
             &mut self.surface_filter,
             &mut self.volume_relaxation_s,
+            &mut self.geometry_theta,
         ] {
             off_if_zero(v);
         }
@@ -173,6 +185,14 @@ impl SolverSettings {
             return err(
                 "solver.theta",
                 format!("must lie in [0, 1], got {}", s.theta),
+            );
+        }
+        if let Some(t) = s.geometry_theta
+            && !(t > 0.0 && t <= 1.0)
+        {
+            return err(
+                "solver.geometry_theta",
+                format!("must be 0 (off) or lie in (0, 1], got {t}"),
             );
         }
         non_negative("solver.smagorinsky_cs", s.smagorinsky_cs)?;

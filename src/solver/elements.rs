@@ -39,7 +39,11 @@ impl Solver {
         self.p_old = p_old;
         for t in &self.mesh.triangles {
             let [a, b, c] = t.map(|i| i as usize);
-            let e = fem::p1(x[a], x[b], x[c]);
+            let mut e = fem::p1(x[a], x[b], x[c]);
+            // Kept triangles are counter-clockwise; on the moved geometry of the second pass
+            // (`geometry_theta`) a sliver may have turned over, and a negative area would make
+            // the pressure matrix indefinite. Its gradients are right either way.
+            e.area = e.area.abs();
             let h_e = fem::element_size(e.area);
             let g = fem::velocity_gradient(&e, [u[a], u[b], u[c]]);
             let (_, s_mag) = fem::strain_rate(&g);

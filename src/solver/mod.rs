@@ -69,6 +69,8 @@ pub struct SolverParams {
     pub surface_filter: Option<f64>,
     /// Relaxation time T_r of the per-strip water-area ledger (`relax.rs`), s (`None`: off).
     pub volume_relaxation_s: Option<f64>,
+    /// Implicitness of the geometry: one more pass on xⁿ + θₓ Δt uⁿ⁺¹ (`None`: off).
+    pub geometry_theta: Option<f64>,
     /// A fluid speed above this stops the run as diverged, m/s (ten times the speed of a fall
     /// from the top of the flume, sqrt(2 g H)).
     pub speed_limit_m_s: f64,
@@ -131,6 +133,7 @@ impl SolverParams {
             weak_surface_length_m: s.weak_surface_length_h.map(|l| l * particles.spacing_m),
             surface_filter: s.surface_filter,
             volume_relaxation_s: s.volume_relaxation_s,
+            geometry_theta: s.geometry_theta,
             two_threads: true,
         }
     }
@@ -158,6 +161,9 @@ pub enum Stage {
     PressureSolve,
     /// Velocity correction and pressure-gradient projection.
     Correct,
+    /// Moving the nodes to the end-of-step geometry and back, for the second pass of
+    /// `geometry_theta` (the pass itself is timed in its stages).
+    Geometry,
     /// The fourth-difference filter of the surface velocities, when on.
     Filter,
     /// Particle motion and wall guard.
@@ -167,7 +173,7 @@ pub enum Stage {
 }
 
 impl Stage {
-    pub const ALL: [Stage; 12] = [
+    pub const ALL: [Stage; 13] = [
         Stage::Nodes,
         Stage::Remesh,
         Stage::AlphaShape,
@@ -177,6 +183,7 @@ impl Stage {
         Stage::Assemble,
         Stage::PressureSolve,
         Stage::Correct,
+        Stage::Geometry,
         Stage::Filter,
         Stage::Move,
         Stage::Recover,
@@ -194,6 +201,7 @@ impl Stage {
             Stage::Assemble => "assemble",
             Stage::PressureSolve => "pressure_solve",
             Stage::Correct => "correct",
+            Stage::Geometry => "geometry",
             Stage::Filter => "filter",
             Stage::Move => "move",
             Stage::Recover => "recover",
@@ -327,6 +335,8 @@ pub struct Solver {
     /// The symbolic Cholesky analysis of this step, running on a second thread.
     symbolic_job: Option<pressure::SymbolicJob>,
     cg: cg::Scratch,
+    /// The positions xⁿ while the second pass of `geometry_theta` runs on moved ones.
+    geometry_saved: Vec<Vector2<f64>>,
 }
 
 /// The case's defaults, so that the two never disagree.

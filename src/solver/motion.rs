@@ -29,6 +29,31 @@ impl Solver {
         })
     }
 
+    /// Keeps xⁿ and shifts every node in the mesh by `dt_s` times its velocity of this step
+    /// (fluid nodes: uⁿ⁺¹ of the last correction; walls: their solid's velocity), for the
+    /// second pass of `geometry_theta`; [`Solver::restore_geometry`] puts them back.
+    pub(super) fn shift_geometry(&mut self, particles: &mut Particles, dt_s: f64) {
+        self.geometry_saved.clear();
+        self.geometry_saved.extend_from_slice(&particles.position);
+        for i in 0..particles.len() {
+            let u = if particles.is_fluid(i) {
+                if self.mass[i] > 0.0 {
+                    self.u_new[i]
+                } else {
+                    continue;
+                }
+            } else {
+                particles.wall_velocity[i]
+            };
+            particles.position[i] += dt_s * u;
+        }
+    }
+
+    /// The positions xⁿ that [`Solver::shift_geometry`] kept, exactly.
+    pub(super) fn restore_geometry(&self, particles: &mut Particles) {
+        particles.position.copy_from_slice(&self.geometry_saved);
+    }
+
     /// Returns how many particles the wall guard put back.
     pub(super) fn move_particles(
         &mut self,

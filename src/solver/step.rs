@@ -17,6 +17,11 @@
 //!    γ(Δt/ρ)L pⁿ − Qπⁿ (s the divergence target of stage 4), p = 0 on the free surface,
 //!    strongly or weakly;
 //! 9. `correct`: uⁿ⁺¹ = ũ + Δt M⁻¹ Dᵀ(pⁿ⁺¹ − γpⁿ), and π from pⁿ⁺¹;
+//! 9b. `geometry` (optional, `geometry_theta` θₓ): move the nodes to xⁿ + θₓ Δt uⁿ⁺¹ and redo
+//!    stages 6–9 there (the pattern of the pressure matrix and its symbolic analysis are
+//!    the same), then put the nodes back on xⁿ for stage 11: the second pass computes the
+//!    restoring force of the free surface where the step takes the surface, not where it
+//!    was (see the doc of `solver.geometry_theta`);
 //! 10. `filter` (optional, `filter.rs`): the fourth-difference filter of the surface velocities;
 //! 11. `move`: xⁿ⁺¹ = xⁿ + Δt uⁿ⁺¹ (thesis eq. 2.59), then the wall guard;
 //! 12. `recover` (optional, `volume.rs`): the global volume recovery on the free surface.
@@ -75,7 +80,22 @@ impl Solver {
             t.time(Stage::Assemble, || self.assemble_pressure(particles, dt));
             let iterations = t.time(Stage::PressureSolve, || self.solve_pressure(particles))?;
             t.time(Stage::Correct, || self.correct(particles, dt));
-            let inverted = self.would_invert(particles, dt);
+            let mut inverted = self.would_invert(particles, dt);
+            if !inverted && let Some(theta_x) = self.params.geometry_theta {
+                t.time(Stage::Geometry, || {
+                    self.shift_geometry(particles, theta_x * dt)
+                });
+                t.time(Stage::Elements, || self.element_properties(particles, dt));
+                t.time(Stage::Predict, || self.predict(particles, dt));
+                t.time(Stage::Assemble, || self.assemble_pressure(particles, dt));
+                let solved = t.time(Stage::PressureSolve, || self.solve_pressure(particles));
+                t.time(Stage::Correct, || self.correct(particles, dt));
+                t.time(Stage::Geometry, || self.restore_geometry(particles));
+                solved?;
+                // Back on xⁿ: the element areas and masses of the move and its checks.
+                t.time(Stage::Elements, || self.element_properties(particles, dt));
+                inverted = self.would_invert(particles, dt);
+            }
             if !inverted || !self.params.adaptive_dt {
                 break iterations;
             }

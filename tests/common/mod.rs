@@ -90,3 +90,51 @@ pub fn screenshot_contrast(path: &Path) -> (usize, f64) {
     let n = f64::from(img.width() * img.height());
     (colors.len(), (sum2 / n - (sum / n).powi(2)).max(0.0).sqrt())
 }
+
+/// An oscillating record (t, η): its mean period from the downward zero crossings, and the
+/// growth rate σ of its amplitude, a(t) = a₀ e^(σ t), fitted by least squares on ln a, with a
+/// the half range between successive crossings. `None` with fewer than four crossings.
+pub struct Oscillation {
+    pub period_s: f64,
+    pub growth_per_s: f64,
+    /// (mid time, amplitude) per period, s and m.
+    pub amplitudes: Vec<(f64, f64)>,
+}
+
+pub fn fit_oscillation(record: &[(f64, f64)]) -> Option<Oscillation> {
+    let crossings: Vec<f64> = record
+        .windows(2)
+        .filter(|w| w[0].1 > 0.0 && w[1].1 <= 0.0)
+        .map(|w| w[0].0 + w[0].1 / (w[0].1 - w[1].1) * (w[1].0 - w[0].0))
+        .collect();
+    if crossings.len() < 4 {
+        return None;
+    }
+    let n = crossings.len() - 1;
+    let period_s = (crossings[n] - crossings[0]) / n as f64;
+    let amplitudes: Vec<(f64, f64)> = crossings
+        .windows(2)
+        .map(|w| {
+            let (lo, hi) = record
+                .iter()
+                .filter(|(t, _)| (w[0]..w[1]).contains(t))
+                .fold((f64::MAX, f64::MIN), |(lo, hi), &(_, e)| {
+                    (lo.min(e), hi.max(e))
+                });
+            (0.5 * (w[0] + w[1]), 0.5 * (hi - lo))
+        })
+        .collect();
+    let m = amplitudes.len() as f64;
+    let (st, sl) = amplitudes
+        .iter()
+        .fold((0.0, 0.0), |(a, b), &(t, y)| (a + t, b + y.ln()));
+    let (tm, lm) = (st / m, sl / m);
+    let (num, den) = amplitudes.iter().fold((0.0, 0.0), |(n, d), &(t, y)| {
+        (n + (t - tm) * (y.ln() - lm), d + (t - tm) * (t - tm))
+    });
+    Some(Oscillation {
+        period_s,
+        growth_per_s: num / den,
+        amplitudes,
+    })
+}
