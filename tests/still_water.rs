@@ -105,10 +105,10 @@ fn still_water_stays_still_for_30_s_with_the_wave_cases_settings() {
 /// surface-wave bound, no filter, no merging) for 60 s of remeshing: max speed below 1e-6 m/s,
 /// volume drift below 1e-6. With the explicit geometry the same tank grows a surface ripple at
 /// 1.45/s and has lost 27 % of its water by 30 s (docs/validation/surface_mode.md); the second
-/// pass on the moved geometry (`solver.geometry_theta` = 1) holds it at round-off (measured:
-/// 5.7e-14 m/s at 60 s).
+/// pass on the surface moved by its short-scale motion (`solver.geometry_theta` = 1) holds it
+/// at round-off.
 #[test]
-fn still_water_holds_at_the_10_ms_step_with_the_implicit_geometry() {
+fn still_water_holds_at_the_10_ms_step_with_the_short_scale_pass() {
     let case = common::case(
         "still_water.toml",
         &[
@@ -136,7 +136,7 @@ fn still_water_holds_at_the_10_ms_step_with_the_implicit_geometry() {
     })
     .expect("still water runs");
     println!(
-        "still water, 60 s at Δt = {:.1} ms (smallest step before the last {:.1} ms), weak surface, θₓ = 1: {} steps; \
+        "still water, 60 s at Δt = {:.1} ms (smallest step before the last {:.1} ms), weak surface, short-scale pass θₓ = 1: {} steps; \
          max speed {max_speed:.2e} m/s; volume drift max {drift:.2e}",
         1e3 * case.time.dt_max_s,
         1e3 * min_dt,

@@ -103,14 +103,17 @@ pub struct SolverSettings {
     /// over about T_r (see `solver/relax.rs`). Default off (`None`; 0 in a case file is off too).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub volume_relaxation_s: Option<f64>,
-    /// Implicitness θₓ in (0, 1] of the geometry: after the first pass of the step, the
-    /// element properties, the predictor, the pressure and the correction are computed again on
-    /// the moved positions xⁿ + θₓ Δt uⁿ⁺¹ (one extra pass, as the iterations of Kratos PFEM
-    /// and PFEM3D on the moved mesh), so that the restoring force of the free surface sees
-    /// where the step takes it. With the weak surface, it holds still water at the 10 ms CFL
-    /// step where the explicit geometry grows a surface ripple; it damps a surface wave of
-    /// frequency ω by about θₓ ω² Δt/2 per second (see `solver/step.rs`). Default off
-    /// (`None`; 0 in a case file is off too): the geometry of the step is xⁿ.
+    /// Implicitness θₓ in (0, 1] of the short-scale surface motion. After the first pass of the
+    /// step, each free-surface fluid node is moved by θₓ Δt times the part of uⁿ⁺¹ that its
+    /// 9-node neighbourhood along the surface does not share, and the element properties, the
+    /// predictor, the pressure and the correction are computed again on that geometry (one
+    /// extra pass, as Kratos PFEM and PFEM3D iterate on the moved mesh, but only for the
+    /// short scales). The surface's restoring force then sees where the step takes a ripple,
+    /// which removes the one-step lag that makes 3–8 h surface modes grow at Δt above about
+    /// 2.5 ms at h = 2 cm; waves of 30 h and more are left as they were (a wave of wavenumber k
+    /// is damped by θₓ (1 − ŝ(k)) ω² Δt/2 per second, ŝ the window's response; see
+    /// `solver/motion.rs` and docs/validation/surface_mode.md). Default off (`None`; 0 in a
+    /// case file is off too).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub geometry_theta: Option<f64>,
 }

@@ -17,10 +17,9 @@
 //! which the move then commits.
 
 use super::Solver;
+use super::surface::SurfaceChains;
 use crate::particles::Particles;
 use nalgebra::Vector2;
-
-const NONE: u32 = u32::MAX;
 
 impl Solver {
     /// Applies the filter; returns how many nodes it changed.
@@ -28,50 +27,15 @@ impl Solver {
         let Some(eps) = self.params.surface_filter else {
             return 0;
         };
-        let n = particles.len();
-        let mut next = vec![NONE; n];
-        let mut prev = vec![NONE; n];
-        // A node with two edges out (or in) is a pinch of the surface: mark it unusable.
-        let mut branched = vec![false; n];
-        for &[a, b] in &self.mesh.boundary_edges {
-            let (ia, ib) = (a as usize, b as usize);
-            if next[ia] != NONE {
-                branched[ia] = true;
-            }
-            next[ia] = b;
-            if prev[ib] != NONE {
-                branched[ib] = true;
-            }
-            prev[ib] = a;
-        }
-        let usable = |i: u32| {
-            i != NONE
-                && particles.is_fluid(i as usize)
-                && self.mesh.free_surface[i as usize]
-                && !branched[i as usize]
-        };
+        let chains = SurfaceChains::new(&self.mesh, particles);
         let u = &self.u_new;
         let mut change: Vec<(usize, Vector2<f64>)> = Vec::new();
-        for i in 0..n as u32 {
-            if !usable(i) {
+        for i in 0..particles.len() as u32 {
+            let Some((before, after)) = chains.window(i, 2).filter(|(b, _)| b.len() == 2) else {
                 continue;
-            }
-            let p1 = prev[i as usize];
-            let n1 = next[i as usize];
-            if !(usable(p1) && usable(n1)) {
-                continue;
-            }
-            let p2 = prev[p1 as usize];
-            let n2 = next[n1 as usize];
-            if !(usable(p2) && usable(n2)) {
-                continue;
-            }
-            // Five distinct nodes (a closed loop of four or fewer nodes would repeat one).
-            let nodes = [p2, p1, i, n1, n2];
-            if p2 == n1 || p2 == n2 || p1 == n2 || p2 == i || n2 == i {
-                continue;
-            }
-            let [a, b, c, d, e] = nodes.map(|k| u[k as usize]);
+            };
+            let [a, b, c, d, e] =
+                [before[1], before[0], i, after[0], after[1]].map(|k| u[k as usize]);
             let fourth = a - 4.0 * b + 6.0 * c - 4.0 * d + e;
             change.push((i as usize, -eps / 16.0 * fourth));
         }

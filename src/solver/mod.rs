@@ -16,6 +16,7 @@ mod predict;
 pub mod pressure;
 pub(crate) mod relax;
 mod step;
+mod surface;
 mod volume;
 
 use crate::case::{
@@ -69,7 +70,8 @@ pub struct SolverParams {
     pub surface_filter: Option<f64>,
     /// Relaxation time T_r of the per-strip water-area ledger (`relax.rs`), s (`None`: off).
     pub volume_relaxation_s: Option<f64>,
-    /// Implicitness of the geometry: one more pass on xⁿ + θₓ Δt uⁿ⁺¹ (`None`: off).
+    /// Implicitness of the short-scale surface motion: one more pass on the surface moved by
+    /// θₓ Δt times its short-scale velocity (`None`: off).
     pub geometry_theta: Option<f64>,
     /// A fluid speed above this stops the run as diverged, m/s (ten times the speed of a fall
     /// from the top of the flume, sqrt(2 g H)).
@@ -161,7 +163,7 @@ pub enum Stage {
     PressureSolve,
     /// Velocity correction and pressure-gradient projection.
     Correct,
-    /// Moving the nodes to the end-of-step geometry and back, for the second pass of
+    /// Moving the surface nodes by their short-scale motion and back, for the second pass of
     /// `geometry_theta` (the pass itself is timed in its stages).
     Geometry,
     /// The fourth-difference filter of the surface velocities, when on.

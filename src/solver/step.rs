@@ -7,7 +7,7 @@
 //! 3. `alpha_shape`: keep triangles with R < α·h, drop all-wall ones, find the free surface;
 //! 4. `relax` (optional, `relax.rs`): book what the remesh changed in the per-strip area
 //!    ledger, and ask the deep nodes of each strip for the divergence s that pays its balance
-//!    back; after stages 11–12 it books what the move changed (and before the first
+//!    back; after stages 12–13 it books what the move changed (and before the first
 //!    step's stage 1, it books the initial mesh);
 //! 5. `assemble`, first part: the pattern of the pressure matrix, built here so that its
 //!    symbolic factorisation runs on the second core during stages 6–7;
@@ -17,17 +17,19 @@
 //!    γ(Δt/ρ)L pⁿ − Qπⁿ (s the divergence target of stage 4), p = 0 on the free surface,
 //!    strongly or weakly;
 //! 9. `correct`: uⁿ⁺¹ = ũ + Δt M⁻¹ Dᵀ(pⁿ⁺¹ − γpⁿ), and π from pⁿ⁺¹;
-//! 9b. `geometry` (optional, `geometry_theta` θₓ): move the nodes to xⁿ + θₓ Δt uⁿ⁺¹ and redo
-//!    stages 6–9 there (the pattern of the pressure matrix and its symbolic analysis are
-//!    the same), then put the nodes back on xⁿ for stage 11: the second pass computes the
-//!    restoring force of the free surface where the step takes the surface, not where it
-//!    was (see the doc of `solver.geometry_theta`);
-//! 10. `filter` (optional, `filter.rs`): the fourth-difference filter of the surface velocities;
-//! 11. `move`: xⁿ⁺¹ = xⁿ + Δt uⁿ⁺¹ (thesis eq. 2.59), then the wall guard;
-//! 12. `recover` (optional, `volume.rs`): the global volume recovery on the free surface.
+//! 10. `geometry` (optional, `geometry_theta` θₓ): move the free-surface nodes by θₓ Δt
+//!     times the short-scale part of uⁿ⁺¹ (`motion.rs`) and redo stages 6–9 there (the
+//!     pattern of the pressure matrix and its symbolic analysis are the same), then put the
+//!     nodes back on xⁿ for stage 12: the second pass computes the restoring force of a
+//!     surface ripple where the step takes it, not where it was (see the doc of
+//!     `solver.geometry_theta`);
+//! 11. `filter` (optional, `filter.rs`): the fourth-difference filter of the surface
+//!     velocities;
+//! 12. `move`: xⁿ⁺¹ = xⁿ + Δt uⁿ⁺¹ (thesis eq. 2.59), then the wall guard;
+//! 13. `recover` (optional, `volume.rs`): the global volume recovery on the free surface.
 //!
 //! If the new velocities would turn a kept triangle inside out within Δt, and the Δt policy
-//! allows it, stages 6–9 are redone with Δt/2.
+//! allows it, stages 6–10 are redone with Δt/2.
 
 use super::{Solver, Stage, StageTimings, StepError, StepReport};
 use crate::geometry::Flume;
