@@ -85,6 +85,29 @@ pub fn battjes_breaker_point_type(iribarren_b: f64) -> &'static str {
     }
 }
 
+/// Grilli, Svendsen & Subramanya's (1997) slope parameter of a solitary wave of height
+/// `height_m` in depth `depth_m` (off the beach) on a beach of slope `slope` (tan β):
+/// S₀ = 1.521 tan β / sqrt(H/d). It is the Iribarren number's counterpart for a single wave:
+/// the slope against the wave's steepness, with the wave's length taken from its shape (the
+/// factor 1.521 is their normalisation of that length), so that it needs no period.
+pub fn solitary_slope_parameter(slope: f64, height_m: f64, depth_m: f64) -> f64 {
+    1.521 * slope / (height_m / depth_m).sqrt()
+}
+
+/// The type Grilli et al.'s (1997) bands give a solitary wave's slope parameter S₀: spilling
+/// below 0.025, plunging below 0.3, collapsing below 0.37, surging (no breaking) above.
+pub fn solitary_predicted_type(slope_parameter: f64) -> BreakerType {
+    if slope_parameter < 0.025 {
+        BreakerType::Spilling
+    } else if slope_parameter < 0.3 {
+        BreakerType::Plunging
+    } else if slope_parameter < 0.37 {
+        BreakerType::Collapsing
+    } else {
+        BreakerType::Surging
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -125,5 +148,19 @@ mod tests {
         assert_eq!(battjes_breaker_point_type(0.39), "spilling");
         assert_eq!(battjes_breaker_point_type(0.4), "plunging");
         assert_eq!(battjes_breaker_point_type(2.0), "collapsing_or_surging");
+    }
+
+    #[test]
+    fn grilli_solitary_bands() {
+        // A 1:15 beach with H/d = 0.35 (cases/solitary_beach.toml) plunges; a 1:100 beach with
+        // H/d = 0.4 spills (S₀ = 0.024), and steep beaches collapse and surge.
+        let s0 = solitary_slope_parameter(1.0 / 15.0, 0.105, 0.3);
+        assert!((s0 - 0.1714).abs() < 1e-4, "{s0}");
+        assert_eq!(solitary_predicted_type(s0), BreakerType::Plunging);
+        let gentle = solitary_slope_parameter(0.01, 0.4, 1.0);
+        assert!((gentle - 0.0240).abs() < 1e-4, "{gentle}");
+        assert_eq!(solitary_predicted_type(gentle), BreakerType::Spilling);
+        assert_eq!(solitary_predicted_type(0.33), BreakerType::Collapsing);
+        assert_eq!(solitary_predicted_type(0.4), BreakerType::Surging);
     }
 }

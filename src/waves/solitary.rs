@@ -55,6 +55,22 @@ pub struct SolitaryPaddle {
     end_time_s: f64,
 }
 
+/// The effective period of a solitary wave of height `height_m` in depth `depth_m`, s:
+/// T_eff = 2 · 3.8 / (κ c), κ = sqrt(3H / (4d³)), c = sqrt(g (d + H)).
+///
+/// A solitary wave has no period, but whatever watches it needs a time scale where a periodic
+/// wave's T would go. This one is the time the wave takes to pass a point between the two
+/// places where its surface stands 0.002 H high (θ = ∓3.8): the same cut-off Goring's piston
+/// is designed on ([`SolitaryPaddle`] starts and stops there), so it is the paddle's motion
+/// less the time its own stroke adds, and c · T_eff = 2 · 3.8 / κ is the wave's effective
+/// length. It grows as the wave gets lower and longer (d = 0.3 m: 2.2 s for H/d = 0.35, 4.6 s
+/// for H/d = 0.1), as the time a breaker or a run-up of this wave lasts does.
+pub fn effective_period_s(height_m: f64, depth_m: f64, gravity_m_s2: f64) -> f64 {
+    let kappa = (3.0 * height_m / (4.0 * depth_m.powi(3))).sqrt();
+    let celerity = (gravity_m_s2 * (depth_m + height_m)).sqrt();
+    2.0 * START_DECAY / (kappa * celerity)
+}
+
 impl SolitaryPaddle {
     /// Designs the paddle motion for a solitary wave of height `height_m` in
     /// depth `depth_m`. Errors on non-positive inputs or `H/h ≥ 0.78`.
@@ -164,6 +180,20 @@ mod tests {
     use crate::waves::WaveError;
 
     const G: f64 = 9.81;
+
+    #[test]
+    fn the_effective_period_is_the_paddle_motion_less_its_stroke() {
+        let (h, d, g) = (0.105, 0.3, 9.81);
+        let paddle = SolitaryPaddle::new(h, d, g).unwrap();
+        let t_eff = effective_period_s(h, d, g);
+        let stroke_time = paddle.stroke_m() / paddle.celerity_m_s;
+        println!(
+            "T_eff = {t_eff:.4} s, paddle motion {:.4} s",
+            paddle.duration_s()
+        );
+        assert!((t_eff + stroke_time - paddle.duration_s()).abs() < 1e-12);
+        assert!((t_eff - 2.233).abs() < 0.001, "{t_eff}");
+    }
 
     #[test]
     fn stroke_matches_goring_estimate() {
