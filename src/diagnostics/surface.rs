@@ -1,6 +1,7 @@
 //! The free surface of the main body of water, sampled along x: every crossing of a vertical
 //! line with the surface (overturned parts and enclosed air cavities included), the crests on
-//! it and the crest a breaker is followed to, and where the still water meets the bed.
+//! it and the crest a breaker is followed to, the shoreline tip of the swash, and where the
+//! still water meets the bed.
 //!
 //! All of it reads the simulation between steps; none changes it. Heights here are absolute
 //! (m above the flume floor) unless a name says "above still water".
@@ -157,6 +158,21 @@ pub fn follow_crest(
     })
 }
 
+/// The shoreline tip: the most shoreward sample at or beyond `k_from` where water stands, as
+/// (x, height of its top), m; `None` when no water stands there.
+///
+/// The main body is one connected piece of water, so the samples it covers are contiguous and
+/// the last of them is the edge of the swash. There the top is the water's edge meeting the
+/// bed: the boundary edge from the last fluid particle down to the bed node ahead of it, crossed
+/// within one sample of that node, so the height stands above the bed by less than the film's
+/// thickness at the last particle (at most about half a particle spacing for samples h/2
+/// apart). Where the still water stands against the far wall, the tip is the water at the wall.
+pub fn shoreline_tip(profile: &SurfaceProfile, k_from: usize) -> Option<(f64, f64)> {
+    (k_from..profile.crossings.len())
+        .rev()
+        .find_map(|k| profile.top(k).map(|y| (profile.x_m(k), y)))
+}
+
 /// The still shoreline, flume x, m: where the still water surface meets the bed as it rises
 /// shoreward, or the far wall (`flume.length_m`) where the bed never rises out of the water.
 ///
@@ -226,6 +242,38 @@ mod tests {
         assert!((crest(1.2).unwrap() - 3.0).abs() < 1e-9);
         // Nothing high enough shoreward of the last crest.
         assert_eq!(crest(3.3), None);
+    }
+
+    #[test]
+    fn the_shoreline_tip_is_the_edge_of_the_water_not_a_higher_bore() {
+        // Level 0.3 m on a 1:15 beach from x = 2.7 m (still shoreline 7.2 m): a bore 0.09 m
+        // above still water at x = 7.4 m, and a film 5 mm deep up to x = 7.6 m.
+        let dx = 0.01;
+        let bed = |x: f64| ((x - 2.7) / 15.0).max(0.0);
+        let crossings = (0..=1000)
+            .map(|k| {
+                let x = k as f64 * dx;
+                if x > 7.6 + 1e-9 {
+                    return Vec::new();
+                }
+                let bore = 0.3 + 0.09 * (-((x - 7.4) / 0.1).powi(2)).exp();
+                vec![(bore.max(bed(x) + 0.005), 0.5)]
+            })
+            .collect();
+        let profile = SurfaceProfile {
+            dx_m: dx,
+            crossings,
+            cavities: Vec::new(),
+        };
+        let (x, y) = shoreline_tip(&profile, profile.index(2.7)).unwrap();
+        assert!((x - 7.6).abs() < 1e-9, "{x}");
+        assert!((y - (bed(7.6) + 0.005)).abs() < 1e-9, "{y}");
+        assert!(
+            y - 0.3 < 0.04,
+            "the tip stands {} m above still water",
+            y - 0.3
+        );
+        assert_eq!(shoreline_tip(&profile, profile.index(7.7)), None);
     }
 
     /// The shoreline of every case in cases/: on a plane beach toe + level / tan β (the
