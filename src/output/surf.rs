@@ -143,6 +143,11 @@ impl SurfRecorder {
         let Some(w) = &case.wavemaker else {
             return (self.detector.summary(origin, 0.0), None);
         };
+        // A solitary wave has no periods to average the surf zone over: its breaking summary
+        // only.
+        if w.theory == crate::case::WaveTheory::Solitary {
+            return (self.detector.summary(origin, 0.0), None);
+        }
         let breaking = self
             .detector
             .summary(origin, case.surf.spin_up_periods * w.period_s);

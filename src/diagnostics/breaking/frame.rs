@@ -1,9 +1,8 @@
 //! One output frame as the breaker detector sees it: the overturned runs of the surface, its
 //! steep faces, its most seaward breaking crest, and the watched breaker followed through it.
 
-use super::{BeachSetup, Breaker, Watch, classify};
+use super::{BeachSetup, Breaker, FlumeState, Watch, classify};
 use crate::diagnostics::surface::{SurfaceProfile, follow_crest};
-use crate::simulation::Simulation;
 
 impl Watch {
     /// Follows the breaking crest to this frame and collects near it (from H_b behind the
@@ -88,7 +87,7 @@ pub(super) struct Onset {
 
 /// One output frame as the detector sees it.
 pub(super) struct Frame<'a> {
-    sim: &'a Simulation,
+    state: &'a dyn FlumeState,
     profile: &'a SurfaceProfile,
     /// The beach and the wave the detector watches.
     pub(super) s: &'a BeachSetup,
@@ -104,14 +103,18 @@ pub(super) struct Frame<'a> {
 }
 
 impl<'a> Frame<'a> {
-    pub(super) fn new(sim: &'a Simulation, profile: &'a SurfaceProfile, s: &'a BeachSetup) -> Self {
+    pub(super) fn new(
+        state: &'a dyn FlumeState,
+        profile: &'a SurfaceProfile,
+        s: &'a BeachSetup,
+    ) -> Self {
         let k_min = profile.index(s.x_min_m);
         let k_max = profile.index(s.x_max_m);
         let mut frame = Frame {
-            sim,
+            state,
             profile,
             s,
-            t: sim.time_s,
+            t: state.time_s(),
             k_min,
             k_max,
             face_span: 1,
@@ -137,7 +140,7 @@ impl<'a> Frame<'a> {
 
     /// Still-water depth at `x`, m (negative where the bed stands above the still level).
     pub(super) fn depth_at(&self, x: f64) -> f64 {
-        self.s.level_m - self.sim.case.bed_y_at(x)
+        self.s.level_m - self.state.bed_y_at(x)
     }
 
     /// The most seaward breaking crest of this frame: a local maximum of the top surface at
@@ -190,33 +193,33 @@ impl<'a> Frame<'a> {
     }
 
     /// Kinematic: the fastest fluid particle of the crest at (`x`, `y`) against the crest's
-    /// speed, linear celerity at the local `depth` with the finite-amplitude factor; fast when
-    /// it reaches 0.85 of it.
+    /// speed, linear celerity at the local `depth` for the wave's time scale with the
+    /// finite-amplitude factor (for a solitary wave, whose T_eff is long, nearly sqrt(g (d +
+    /// η))); fast when it reaches 0.85 of it.
     fn crest_is_fast(&self, x: f64, y: f64, depth: f64) -> bool {
         let s = self.s;
         let crest_above = y - s.level_m;
-        let c = crate::waves::linear::celerity(s.period_s, depth, s.g).unwrap_or(f64::NAN)
+        let c = crate::waves::linear::celerity(s.time_scale_s, depth, s.g).unwrap_or(f64::NAN)
             * (1.0 + crest_above / depth).sqrt();
-        let p = &self.sim.particles;
-        let u = (0..p.len())
-            .filter(|&i| p.is_fluid(i) && self.sim.solver.mesh.in_mesh[i])
-            .filter(|&i| {
-                let q = p.position[i];
-                (q.x - x).abs() <= 2.0 * s.h && q.y >= y - 2.0 * s.h
-            })
-            .map(|i| p.velocity[i].x)
-            .fold(f64::NEG_INFINITY, f64::max);
-        u >= 0.85 * c
+        self.state.fastest_u_near(x, y, 2.0 * s.h) >= 0.85 * c
     }
 
     /// The top at the onset crest `x_b` (still level where none) and the lowest top from half
     /// a wavelength (at the crest's still `depth`) behind it to the crest, m.
+    ///
+    /// A solitary wave has no trough: its height is its crest's elevation above still water,
+    /// as Grilli et al. (1997) measure H_b, and its trough here is the still level. (Half its
+    /// effective length behind a shoaled crest the surface still stands a quarter of the crest
+    /// high: the lowest top there would cut H_b by as much.)
     pub(super) fn crest_and_trough(&self, x_b: f64, depth: f64) -> (f64, f64) {
         let (s, profile) = (self.s, self.profile);
         let k_b = profile.index(x_b);
-        let wavelength = s.period_s * (s.g * depth.max(s.h)).sqrt();
-        let k_back = profile.index(x_b - 0.5 * wavelength).max(self.k_min);
         let crest = profile.top(k_b).unwrap_or(s.level_m);
+        if s.single_wave {
+            return (crest, s.level_m);
+        }
+        let wavelength = s.time_scale_s * (s.g * depth.max(s.h)).sqrt();
+        let k_back = profile.index(x_b - 0.5 * wavelength).max(self.k_min);
         let trough = (k_back..=k_b)
             .filter_map(|k| profile.top(k))
             .fold(crest, f64::min);

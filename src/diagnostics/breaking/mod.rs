@@ -1,15 +1,57 @@
-//! The breaker detector: breaking onset on a beach, each breaker followed for half a period
-//! and classified by what its front did, and the run's breaking summary.
+//! The breaker detector: breaking onset on a beach, each breaker followed for half the wave's
+//! time scale and classified by what its front did, the run-up of the swash, and the run's
+//! breaking summary.
 //!
-//! It reads the surface profile of each output frame ([`super::surface`]) and the simulation;
-//! it changes neither.
+//! Everything that waits, spaces or measures in time uses one time scale: the period of a
+//! periodic wave, or the effective period of a solitary wave
+//! ([`crate::waves::solitary::effective_period_s`]), which has none.
+//!
+//! It reads the surface profile of each output frame ([`super::surface`]) and the simulation
+//! (through [`FlumeState`]); it changes neither.
 
 mod frame;
+mod run_up;
 
-use super::surface::{SurfaceProfile, still_shoreline_x_m};
+use super::surface::{SurfaceProfile, shoreline_tip, still_shoreline_x_m};
+use crate::case::{Case, WaveTheory};
 use crate::simulation::Simulation;
 use crate::waves::breaker::{self, BreakerType};
 use frame::{Frame, Onset};
+use run_up::SwashRecord;
+
+/// What the detector reads of the simulation besides the surface profile: the time, the bed,
+/// and how fast the water at a crest moves. [`Simulation`] is one; a test builds frames of its
+/// own with another.
+pub trait FlumeState {
+    fn time_s(&self) -> f64;
+    /// Height of the bed at `x_m`, m above the flume floor.
+    fn bed_y_at(&self, x_m: f64) -> f64;
+    /// The largest horizontal velocity of the meshed fluid within `radius_m` of `x_m` and no
+    /// lower than `y_m − radius_m`, m/s (−∞ where there is none).
+    fn fastest_u_near(&self, x_m: f64, y_m: f64, radius_m: f64) -> f64;
+}
+
+impl FlumeState for Simulation {
+    fn time_s(&self) -> f64 {
+        self.time_s
+    }
+
+    fn bed_y_at(&self, x_m: f64) -> f64 {
+        self.case.bed_y_at(x_m)
+    }
+
+    fn fastest_u_near(&self, x_m: f64, y_m: f64, radius_m: f64) -> f64 {
+        let p = &self.particles;
+        (0..p.len())
+            .filter(|&i| p.is_fluid(i) && self.solver.mesh.in_mesh[i])
+            .filter(|&i| {
+                let q = p.position[i];
+                (q.x - x_m).abs() <= radius_m && q.y >= y_m - radius_m
+            })
+            .map(|i| p.velocity[i].x)
+            .fold(f64::NEG_INFINITY, f64::max)
+    }
+}
 
 /// What one breaker did, measured from the surface.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -23,11 +65,12 @@ pub struct Breaker {
     pub x_b_m: f64,
     /// Still-water depth under the crest at onset, m.
     pub h_b_m: f64,
-    /// Crest height above the preceding trough at onset, m.
+    /// Crest height above the preceding trough at onset (a solitary wave's: above still
+    /// water), m.
     pub height_b_m: f64,
     pub t_b_s: f64,
-    /// Longest horizontal reach of an overturned part of the surface within half a period of
-    /// the onset, m.
+    /// Longest horizontal reach of an overturned part of the surface within half a period (the
+    /// wave's time scale, see the module) of the onset, m.
     pub overturn_reach_m: f64,
     /// How high the top of that longest fold stood above the onset's trough, m: a plunging jet
     /// is thrown from the crest, a collapsing front folds low on its face.
@@ -95,7 +138,13 @@ struct BeachSetup {
     g: f64,
     /// tan β of the beach.
     slope: f64,
-    period_s: f64,
+    /// Beach toe, flume x, m: the swash tip is looked for shoreward of it.
+    toe_x_m: f64,
+    /// The wave's time scale: its period, or a solitary wave's effective period (see the
+    /// module). The watch lasts half of it, onsets are at least half of it apart.
+    time_scale_s: f64,
+    /// One solitary wave: every breaker and the whole swash belong to it.
+    single_wave: bool,
     height_m: f64,
     h: f64,
     /// Absolute still-water level over the beach, m.
@@ -170,21 +219,33 @@ pub struct BreakingDetector {
     pub predicted: Option<BreakerType>,
     watch: Option<Watch>,
     tracker: OnsetTracker,
+    /// Grilli et al.'s (1997) slope parameter S₀ of a solitary wave (`None` for a periodic
+    /// one), which `predicted` comes from in its case.
+    pub slope_parameter: Option<f64>,
     /// Every breaker seen after the gate, in time order.
     pub breakers: Vec<Breaker>,
-    /// Highest water above still level shoreward of the still shoreline, m.
-    pub run_up_m: f64,
-    shoreline_x_m: f64,
+    /// The shoreline tip's elevation above still water at each frame after the gate.
+    swash: SwashRecord,
 }
 
 /// Breaking in `summary.json`.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct BreakingSummary {
+    /// tan β / sqrt(H/L₀), L₀ = g T²/2π, with T the wave's time scale (a solitary wave's
+    /// effective period).
     pub iribarren: f64,
+    /// The time scale, s: the period, or a solitary wave's effective period.
+    pub time_scale_s: f64,
+    /// A solitary wave's slope parameter S₀ = 1.521 tan β / sqrt(H/d) (Grilli et al. 1997);
+    /// null for a periodic wave.
+    pub slope_parameter: Option<f64>,
+    /// The type the thesis's table gives `iribarren`, or for a solitary wave the type Grilli
+    /// et al.'s bands give `slope_parameter`.
     pub predicted: &'static str,
     /// The Iribarren number at the breaking point, tan β / sqrt(H_b/L₀) with `H_b_m` below,
     /// and the type Battjes's (1974) breaker-point bands give it (spilling < 0.4 ≤ plunging
-    /// < 2.0 ≤ `collapsing_or_surging`); null when nothing broke.
+    /// < 2.0 ≤ `collapsing_or_surging`); null when nothing broke, and the type null for a
+    /// solitary wave (the bands are a periodic wave's).
     pub iribarren_b: Option<f64>,
     pub battjes_b: Option<&'static str>,
     /// The most frequent type among the breakers the point is taken from (`basis`; the first
@@ -221,7 +282,11 @@ pub struct BreakingSummary {
     pub x_b_mean_m: Option<f64>,
     #[serde(rename = "H_b_mean_m")]
     pub height_b_mean_m: Option<f64>,
+    /// The highest of `run_ups_m` (0 when no wave's run-up was recorded), m.
     pub run_up_m: f64,
+    /// Each wave's run-up after the gate: the highest elevation above still water its
+    /// shoreline tip (the edge of the swash) reached, m; one value for a solitary wave.
+    pub run_ups_m: Vec<f64>,
     pub breakers: Vec<Breaker>,
 }
 
@@ -240,7 +305,19 @@ fn most_frequent(breakers: &[&Breaker]) -> Option<BreakerType> {
 impl BreakingDetector {
     /// A detector for `sim`'s case: active with a beach and a wavemaker, idle otherwise.
     pub fn new(sim: &Simulation) -> Self {
-        let case = &sim.case;
+        Self::for_case(&sim.case)
+    }
+
+    /// A detector for `case`: active with a beach and a wavemaker, idle otherwise.
+    ///
+    /// A periodic wave's time scale is its period; its length the linear wavelength at the
+    /// paddle; the first full-height wave leaves the paddle after the ramp and reaches the toe
+    /// (toe − paddle)/c later, and breakers before that (the gate) are the ramp's. A solitary
+    /// wave's time scale is its effective period T_eff, its length the effective length
+    /// c·T_eff with c = sqrt(g (d + H)); it is the only wave, so there is no gate, and its type
+    /// is predicted from Grilli et al.'s slope parameter, which needs no period (the Iribarren
+    /// number with T_eff is reported beside it, but its bands were drawn for periodic waves).
+    pub fn for_case(case: &Case) -> Self {
         let g = case.fluid.gravity_m_s2;
         let mut out = Self {
             setup: None,
@@ -248,34 +325,47 @@ impl BreakingDetector {
             predicted: None,
             watch: None,
             tracker: OnsetTracker::default(),
+            slope_parameter: None,
             breakers: Vec::new(),
-            run_up_m: 0.0,
-            shoreline_x_m: f64::NAN,
+            swash: SwashRecord::default(),
         };
         let (Some(beach), Some(w)) = (&case.flume.beach, &case.wavemaker) else {
             return out;
         };
-        out.iribarren = breaker::iribarren(beach.slope, w.height_m, w.period_s, g);
-        out.predicted = Some(breaker::predicted_type(out.iribarren));
         let level = case.still_level_at(beach.toe_x_m).unwrap_or(0.0);
         let depth = case.paddle_depth_m().unwrap_or(level);
-        out.shoreline_x_m = still_shoreline_x_m(case);
-        let wavelength = crate::waves::linear::wavelength(w.period_s, depth, g).unwrap_or(0.0);
-        let celerity = wavelength / w.period_s;
+        let single_wave = w.theory == WaveTheory::Solitary;
+        let (time_scale, wavelength, gate) = if single_wave {
+            let t_eff = crate::waves::solitary::effective_period_s(w.height_m, depth, g);
+            let celerity = (g * (depth + w.height_m)).sqrt();
+            (t_eff, celerity * t_eff, 0.0)
+        } else {
+            let wavelength = crate::waves::linear::wavelength(w.period_s, depth, g).unwrap_or(0.0);
+            let celerity = wavelength / w.period_s;
+            let travel = (beach.toe_x_m - w.x_m).max(0.0) / celerity.max(1e-9);
+            (w.period_s, wavelength, w.ramp_periods * w.period_s + travel)
+        };
+        out.iribarren = breaker::iribarren(beach.slope, w.height_m, time_scale, g);
+        if single_wave {
+            let s0 = breaker::solitary_slope_parameter(beach.slope, w.height_m, depth);
+            out.slope_parameter = Some(s0);
+            out.predicted = Some(breaker::solitary_predicted_type(s0));
+        } else {
+            out.predicted = Some(breaker::predicted_type(out.iribarren));
+        }
         let h = case.particles.spacing_m;
-        // The first full-height wave leaves the paddle after the ramp and reaches the toe
-        // (toe − paddle)/c later; breakers before it are the ramp's.
-        let travel = (beach.toe_x_m - w.x_m).max(0.0) / celerity.max(1e-9);
         out.setup = Some(BeachSetup {
             g,
             slope: beach.slope,
-            period_s: w.period_s,
+            toe_x_m: beach.toe_x_m.min(still_shoreline_x_m(case)),
+            time_scale_s: time_scale,
+            single_wave,
             height_m: w.height_m,
             h,
             level_m: level,
             x_min_m: (beach.toe_x_m - 0.25 * wavelength).max(w.x_m + 0.25 * wavelength),
             x_max_m: case.flume.length_m - 3.0 * h,
-            gate_s: w.ramp_periods * w.period_s + travel,
+            gate_s: gate,
         });
         out
     }
@@ -295,16 +385,16 @@ impl BreakingDetector {
 
     /// Looks at one frame; returns the events to log (onset, classification).
     ///
-    /// In order: the run-up; the breaker being watched, followed and, once its half period is
-    /// over, classified; then this frame's most seaward breaking crest, which starts a new
-    /// watch when it is a new wave's onset, after the ramped first waves, with no breaker
-    /// being watched.
-    pub fn observe(&mut self, sim: &Simulation, profile: &SurfaceProfile) -> Vec<String> {
+    /// In order: the shoreline tip; the breaker being watched, followed and, once its half
+    /// period is over, classified; then this frame's most seaward breaking crest, which starts
+    /// a new watch when it is a new wave's onset, after the ramped first waves, with no
+    /// breaker being watched.
+    pub fn observe(&mut self, sim: &dyn FlumeState, profile: &SurfaceProfile) -> Vec<String> {
         let Some(s) = self.setup.clone() else {
             return Vec::new();
         };
         let mut events = Vec::new();
-        self.record_run_up(&s, profile);
+        self.record_tip(&s, sim.time_s(), profile);
         let frame = Frame::new(sim, profile, &s);
         events.extend(self.follow_watched(&frame));
         let onset = frame.most_seaward_onset();
@@ -319,13 +409,14 @@ impl BreakingDetector {
         events
     }
 
-    /// Run-up: the highest water above still level shoreward of the still shoreline.
-    fn record_run_up(&mut self, s: &BeachSetup, profile: &SurfaceProfile) {
-        let k0 = profile.index(self.shoreline_x_m);
-        for k in k0..profile.crossings.len() {
-            if let Some(y) = profile.top(k) {
-                self.run_up_m = self.run_up_m.max(y - s.level_m);
-            }
+    /// The shoreline tip's elevation above still water (see [`shoreline_tip`]), after the
+    /// gate: the ramp's waves run up too, but their run-up is not the wave's.
+    fn record_tip(&mut self, s: &BeachSetup, t_s: f64, profile: &SurfaceProfile) {
+        if t_s < s.gate_s {
+            return;
+        }
+        if let Some((_, y)) = shoreline_tip(profile, profile.index(s.toe_x_m)) {
+            self.swash.push(t_s, y - s.level_m);
         }
     }
 
@@ -350,10 +441,10 @@ impl BreakingDetector {
     fn offer_onset(&mut self, f: &Frame, onset: Option<&Onset>) -> bool {
         let s = f.s;
         let jump = onset.map_or(0.0, |o| {
-            0.25 * s.period_s * (s.g * (f.depth_at(o.x_m).max(s.h) + s.height_m)).sqrt()
+            0.25 * s.time_scale_s * (s.g * (f.depth_at(o.x_m).max(s.h) + s.height_m)).sqrt()
         });
         self.tracker
-            .offer(f.t, onset.map(|o| o.x_m), jump, 0.5 * s.period_s)
+            .offer(f.t, onset.map(|o| o.x_m), jump, 0.5 * s.time_scale_s)
     }
 
     /// Starts watching the breaker of a new onset: its still depth, and its height over the
@@ -389,7 +480,7 @@ impl BreakingDetector {
         );
         self.watch = Some(Watch {
             breaker,
-            until_s: t + 0.5 * s.period_s,
+            until_s: t + 0.5 * s.time_scale_s,
             crest_x_m: x_b,
             trough_m: trough,
         });
@@ -402,14 +493,18 @@ impl BreakingDetector {
     /// first waves have passed: the point is taken from the breakers after `steady_from_s`
     /// (the spin-up of the surf averages) that are at least 0.75 H high, which leaves out the
     /// ramp's low crests and the reforming bores shoreward of the break; without any, from the
-    /// first breaker.
+    /// first breaker. A solitary wave is one wave: its point is its first breaker's
+    /// (`basis` "first"; what breaks after it are its bore re-forming and its backwash).
     pub fn summary(&self, x_origin_m: f64, steady_from_s: f64) -> Option<BreakingSummary> {
         let s = self.setup.as_ref()?;
         let steady: Vec<&Breaker> = self
             .breakers
             .iter()
+            .filter(|_| !s.single_wave)
             .filter(|b| b.t_b_s >= steady_from_s && b.height_b_m >= 0.75 * s.height_m)
             .collect();
+        let run_ups = self.swash.per_wave_m(s.time_scale_s, s.single_wave);
+        let run_up = run_ups.iter().copied().fold(0.0, f64::max);
         let first = self.breakers.first();
         let (basis, used): (&'static str, Vec<&Breaker>) = if !steady.is_empty() {
             ("steady", steady.clone())
@@ -420,7 +515,7 @@ impl BreakingDetector {
         };
         let observed = match most_frequent(&used) {
             Some(t) => t.name(),
-            None if self.run_up_m >= 0.25 * s.height_m => "surging",
+            None if run_up >= 0.25 * s.height_m => "surging",
             None => "none",
         };
         let pick = |f: fn(&Breaker) -> f64| {
@@ -436,12 +531,16 @@ impl BreakingDetector {
         let height_b = pick(|b| b.height_b_m);
         let iribarren_b = height_b
             .filter(|h| *h > 0.0)
-            .map(|h| breaker::iribarren(s.slope, h, s.period_s, s.g));
+            .map(|h| breaker::iribarren(s.slope, h, s.time_scale_s, s.g));
         Some(BreakingSummary {
             iribarren: self.iribarren,
+            time_scale_s: s.time_scale_s,
+            slope_parameter: self.slope_parameter,
             predicted: self.predicted.map_or("none", BreakerType::name),
             iribarren_b,
-            battjes_b: iribarren_b.map(breaker::battjes_breaker_point_type),
+            battjes_b: iribarren_b
+                .filter(|_| !s.single_wave)
+                .map(breaker::battjes_breaker_point_type),
             observed,
             x_b_m: x_b,
             x_b_data_frame_m: x_b.map(|x| x - x_origin_m),
@@ -456,7 +555,8 @@ impl BreakingDetector {
             first: first.copied(),
             x_b_mean_m: mean(|b| b.x_b_m),
             height_b_mean_m: mean(|b| b.height_b_m),
-            run_up_m: self.run_up_m,
+            run_up_m: run_up,
+            run_ups_m: run_ups,
             breakers: self.breakers.clone(),
         })
     }
@@ -478,6 +578,130 @@ fn classified_event(b: &Breaker) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A flume made of synthetic surfaces: the case's bed, a clock, and crests no faster than
+    /// the wave (no kinematic onset).
+    struct SyntheticFlume {
+        case: Case,
+        t_s: f64,
+    }
+
+    impl FlumeState for SyntheticFlume {
+        fn time_s(&self) -> f64 {
+            self.t_s
+        }
+        fn bed_y_at(&self, x_m: f64) -> f64 {
+            self.case.bed_y_at(x_m)
+        }
+        fn fastest_u_near(&self, _: f64, _: f64, _: f64) -> f64 {
+            f64::NEG_INFINITY
+        }
+    }
+
+    /// `cases/solitary_beach.toml` (d = 0.3 m, H = 0.105 m, 1:15 from x = 2.7 m, still
+    /// shoreline at 7.2 m) seen through synthetic frames every 0.02 s from 2 s to 7 s:
+    /// - the solitary crest shoals at 1.5 m/s, growing from H to 0.12 m, smooth (its face
+    ///   never steeper than 20°);
+    /// - from 4.00 to 4.04 s, at x = 5.70–5.76 m (still depth 0.10 m), a jet 0.1 m long is
+    ///   thrown from the crest: three crossings under it, the water on top moving shoreward;
+    /// - after it, a smooth bore 0.10 m high runs on at 1.3 m/s and fades on the beach;
+    /// - the shoreline tip stands at 7.25 m until 4.5 s, climbs to 8.2 m (0.072 m above still
+    ///   water, with a 5 mm film) by 5.6 s and falls back; the bore's crest passes x = 7.4 m
+    ///   (shoreward of the still shoreline, 0.10 m above still water) behind the tip.
+    ///
+    /// One breaker, plunging, at 5.70 m; one run-up, the tip's, not the bore's.
+    #[test]
+    fn a_solitary_wave_that_overturns_is_one_plunging_breaker_and_runs_up_to_its_tip() {
+        let case = Case::load(std::path::Path::new("cases/solitary_beach.toml"), &[]).unwrap();
+        let mut detector = BreakingDetector::for_case(&case);
+        assert!(detector.active());
+        let level = 0.3;
+        let dx = 0.01;
+        let samples = (case.flume.length_m / dx).round() as usize + 1;
+        let sech2 = |z: f64| 1.0 / z.cosh().powi(2);
+        let (t_b, x_b) = (4.0, 5.7);
+        let mut flume = SyntheticFlume { case, t_s: 0.0 };
+        let mut events = Vec::new();
+        for n in 0..=250 {
+            let t = 2.0 + 0.02 * n as f64;
+            let x_tip = if t < 4.5 {
+                7.25
+            } else if t < 5.6 {
+                7.25 + (8.2 - 7.25) * (t - 4.5) / 1.1
+            } else {
+                (8.2 - 0.7 * (t - 5.6)).max(7.5)
+            };
+            // The crest: shoaling, overturning, then a bore.
+            let folding = (t_b - 1e-9..t_b + 0.05).contains(&t);
+            let (x_c, amplitude) = if t < t_b - 1e-9 {
+                let grown = 0.105 + 0.015 * ((t - 2.0) / (t_b - 2.0)).clamp(0.0, 1.0);
+                (x_b - 1.5 * (t_b - t), grown)
+            } else if folding {
+                (x_b + 1.5 * (t - t_b), 0.12)
+            } else {
+                let x = x_b + 0.06 + 1.3 * (t - t_b - 0.06);
+                (x, 0.10 * ((7.8 - x) / 0.4).clamp(0.0, 1.0))
+            };
+            let crossings = (0..samples)
+                .map(|k| {
+                    let x = k as f64 * dx;
+                    if x > x_tip + 1e-9 {
+                        return Vec::new();
+                    }
+                    let film = flume.bed_y_at(x) + 0.005;
+                    let ahead = x - x_c;
+                    if folding && ahead > 1e-9 && ahead <= 0.1 + 1e-9 {
+                        // Jet top falling from the crest, its underside 2 cm below, and the
+                        // face under it.
+                        let top = level + amplitude * (1.0 - 0.3 * ahead / 0.1);
+                        let face = level + 0.3 * amplitude * (1.0 - ahead / 0.1);
+                        return vec![(top, 1.0), (top - 0.02, 1.0), (face, 0.5)];
+                    }
+                    let eta = if folding && ahead > 0.1 {
+                        0.3 * amplitude * sech2((ahead - 0.1) / 0.1)
+                    } else {
+                        amplitude * sech2(ahead / 0.3)
+                    };
+                    vec![((level + eta).max(film), 0.5)]
+                })
+                .collect();
+            let profile = SurfaceProfile {
+                dx_m: dx,
+                crossings,
+                cavities: Vec::new(),
+            };
+            flume.t_s = t;
+            events.extend(detector.observe(&flume, &profile));
+        }
+        println!("{events:#?}");
+        let b = &detector.breakers;
+        assert_eq!(b.len(), 1, "{b:?}");
+        assert_eq!(b[0].observed, BreakerType::Plunging, "{:?}", b[0]);
+        assert_eq!(b[0].onset, "overturning");
+        assert!((b[0].x_b_m - x_b).abs() <= dx + 1e-9, "{}", b[0].x_b_m);
+        assert!((b[0].h_b_m - 0.1).abs() < 0.002, "{}", b[0].h_b_m);
+        assert!(
+            (b[0].height_b_m - 0.12).abs() < 0.005,
+            "{}",
+            b[0].height_b_m
+        );
+        let summary = detector.summary(0.0, 0.0).unwrap();
+        assert_eq!(summary.observed, "plunging");
+        assert_eq!(summary.predicted, "plunging");
+        assert_eq!(summary.basis, "first");
+        assert!((summary.slope_parameter.unwrap() - 0.1714).abs() < 1e-3);
+        assert!((summary.time_scale_s - 2.233).abs() < 1e-3);
+        assert!((summary.x_b_m.unwrap() - x_b).abs() <= dx + 1e-9);
+        // The tip's highest, 1.1/15 m + 5 mm above still water at x = 8.2 m; the bore, 0.10 m
+        // above still water shoreward of the still shoreline, does not count.
+        let tip = (8.2 - 2.7) / 15.0 - level + 0.005;
+        assert_eq!(summary.run_ups_m.len(), 1, "{:?}", summary.run_ups_m);
+        assert!(
+            (summary.run_up_m - tip).abs() < 0.002,
+            "run-up {} m, the tip's highest {tip} m",
+            summary.run_up_m
+        );
+    }
 
     #[test]
     fn a_new_wave_breaks_seaward_of_the_bores_and_a_flicker_is_not_a_new_wave() {
