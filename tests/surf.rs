@@ -264,3 +264,32 @@ fn a_surf_run_writes_breaking_undertow_and_profiles() {
         assert!(rows.iter().any(|r| r.starts_with(q)), "no {q} rows");
     }
 }
+
+/// A solitary wave (no period) that breaks on a beach used to be reported `surging` with no
+/// breaker: the detector waited, spaced and gated by a period of 0 s. With its effective
+/// period it sees the one plunging breaker (`cases/solitary_beach.toml`, 5.4 s of its 9 s:
+/// the breaker is classified half an effective period after its onset at about 4.1 s).
+#[test]
+fn a_solitary_wave_breaking_on_a_beach_is_one_plunging_breaker() {
+    let case = common::case("solitary_beach.toml", &["time.end_s=5.4"]);
+    let out = common::run_case(&case, "solitary_beach", false);
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.out_dir.join("summary.json")).unwrap())
+            .unwrap();
+    let b = &summary["breaking"];
+    println!("breaking: {b}");
+    assert_eq!(b["predicted"], "plunging");
+    assert_eq!(b["observed"], "plunging");
+    assert_eq!(b["basis"], "first");
+    assert_eq!(b["breakers"].as_array().unwrap().len(), 1, "{b}");
+    // Measured at h = 2 cm: x_b = 6.11 m (still depth 0.073 m), onset 5.91 m, H_b = 0.127 m.
+    let x_b = b["x_b_m"].as_f64().unwrap();
+    assert!((5.7..=6.5).contains(&x_b), "x_b = {x_b} m");
+    let h_b = b["H_b_m"].as_f64().unwrap();
+    assert!((0.105..=0.15).contains(&h_b), "H_b = {h_b} m");
+    assert_eq!(b["run_ups_m"].as_array().unwrap().len(), 1);
+    assert!(
+        summary["surf"].is_null(),
+        "a solitary wave has no periods to average"
+    );
+}

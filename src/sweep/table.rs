@@ -183,7 +183,10 @@ pub const COLUMNS: [(&str, &str); 15] = [
     ("x_b_m", "breaking point, flume x, m"),
     ("h_b_m", "still depth at the breaking point, m"),
     ("H_b_m", "wave height at breaking, m"),
-    ("run_up_m", "run-up above still water, m"),
+    (
+        "run_up_m",
+        "run-up: the shoreline tip's highest elevation above still water over the waves, m",
+    ),
     (
         "reflection_coefficient",
         "K_r = |reflected| / |incident|, dimensionless",
