@@ -578,12 +578,25 @@ fn classified_event(b: &Breaker) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use nalgebra::Vector2;
 
-    /// A flume made of synthetic surfaces: the case's bed, a clock, and crests no faster than
-    /// the wave (no kinematic onset).
+    /// A flume made of synthetic surfaces: the case's bed, a clock, and the water of a crest
+    /// moving shoreward at `crest_u_fraction` of the crest's celerity as the kinematic criterion
+    /// reckons it (`None`: no water there, so no kinematic onset).
     struct SyntheticFlume {
         case: Case,
         t_s: f64,
+        crest_u_fraction: Option<f64>,
+    }
+
+    impl SyntheticFlume {
+        fn new(case: Case, crest_u_fraction: Option<f64>) -> Self {
+            Self {
+                case,
+                t_s: 0.0,
+                crest_u_fraction,
+            }
+        }
     }
 
     impl FlumeState for SyntheticFlume {
@@ -593,8 +606,49 @@ mod tests {
         fn bed_y_at(&self, x_m: f64) -> f64 {
             self.case.bed_y_at(x_m)
         }
-        fn fastest_u_near(&self, _: f64, _: f64, _: f64) -> f64 {
-            f64::NEG_INFINITY
+        /// The fraction of c = c_linear(T, d) · sqrt(1 + η/d) at the local still depth d,
+        /// η the height `y_m` above still water: the celerity `Frame::crest_is_fast` compares
+        /// with.
+        fn fastest_u_near(&self, x_m: f64, y_m: f64, _: f64) -> f64 {
+            let (Some(fraction), Some(beach), Some(w)) = (
+                self.crest_u_fraction,
+                &self.case.flume.beach,
+                &self.case.wavemaker,
+            ) else {
+                return f64::NEG_INFINITY;
+            };
+            let level_m = self.case.still_level_at(beach.toe_x_m).unwrap_or(0.0);
+            let depth_m = level_m - self.bed_y_at(x_m);
+            if depth_m <= 0.0 {
+                return f64::NEG_INFINITY;
+            }
+            let g = self.case.fluid.gravity_m_s2;
+            let c = crate::waves::linear::celerity(w.period_s, depth_m, g).unwrap()
+                * (1.0 + (y_m - level_m) / depth_m).sqrt();
+            fraction * c
+        }
+    }
+
+    /// A surface sampled every `dx_m` from x = 0 to `length_m`: each sample's crossings (y, u1)
+    /// from `column(x)`, put highest first as `surface_profile` leaves them.
+    fn synthetic_profile(
+        length_m: f64,
+        dx_m: f64,
+        column: impl Fn(f64) -> Vec<(f64, f64)>,
+        cavities: Vec<(Vector2<f64>, f64)>,
+    ) -> SurfaceProfile {
+        let samples = (length_m / dx_m).round() as usize + 1;
+        let crossings = (0..samples)
+            .map(|k| {
+                let mut c = column(k as f64 * dx_m);
+                c.sort_by(|a, b| b.0.total_cmp(&a.0));
+                c
+            })
+            .collect();
+        SurfaceProfile {
+            dx_m,
+            crossings,
+            cavities,
         }
     }
 
@@ -617,10 +671,10 @@ mod tests {
         assert!(detector.active());
         let level = 0.3;
         let dx = 0.01;
-        let samples = (case.flume.length_m / dx).round() as usize + 1;
+        let length_m = case.flume.length_m;
         let sech2 = |z: f64| 1.0 / z.cosh().powi(2);
         let (t_b, x_b) = (4.0, 5.7);
-        let mut flume = SyntheticFlume { case, t_s: 0.0 };
+        let mut flume = SyntheticFlume::new(case, None);
         let mut events = Vec::new();
         for n in 0..=250 {
             let t = 2.0 + 0.02 * n as f64;
@@ -642,9 +696,10 @@ mod tests {
                 let x = x_b + 0.06 + 1.3 * (t - t_b - 0.06);
                 (x, 0.10 * ((7.8 - x) / 0.4).clamp(0.0, 1.0))
             };
-            let crossings = (0..samples)
-                .map(|k| {
-                    let x = k as f64 * dx;
+            let profile = synthetic_profile(
+                length_m,
+                dx,
+                |x| {
                     if x > x_tip + 1e-9 {
                         return Vec::new();
                     }
@@ -663,13 +718,9 @@ mod tests {
                         amplitude * sech2(ahead / 0.3)
                     };
                     vec![((level + eta).max(film), 0.5)]
-                })
-                .collect();
-            let profile = SurfaceProfile {
-                dx_m: dx,
-                crossings,
-                cavities: Vec::new(),
-            };
+                },
+                Vec::new(),
+            );
             flume.t_s = t;
             events.extend(detector.observe(&flume, &profile));
         }
