@@ -1052,6 +1052,41 @@ mod tests {
         assert!((summary.x_b_m.unwrap() - 8.1).abs() <= DX_M + 1e-9);
     }
 
+    /// Collapsing as the issue describes it (23, item 4) without a fold: at x_b = 8.1 m the
+    /// crest stays whole (its upper face the smooth 22° slope of the collapsing test down to
+    /// 0.4 H_b above the trough), and its lower face steepens to 76° (tan 4) and falls, 5 cm
+    /// down to the trough, with no overturned part; the water of the crest moves at 0.7 c.
+    ///
+    /// The detector does not see it break: a face steeper than 60° counts only over ℓ_j =
+    /// 4 cm, a fall of 6.9 cm (0.55 H_b) there, taller than the lower face; there is no fold and
+    /// the crest is slow. With no breaker and the tip running up 0.05 m (over H/4) the run is
+    /// `surging`. (With a kinematic or steep-face onset it would be `spilling` offshore, h_b ≥
+    /// 0.5 H_b, for want of a long fold; at the shoreline `collapsing`.)
+    #[test]
+    #[ignore = "the rules see no breaking in a lower face that steepens and falls without folding (issue 23, item 4)"]
+    fn a_whole_crest_whose_lower_face_steepens_and_falls_without_folding_is_collapsing() {
+        let train = Train {
+            x_b_m: 8.1,
+            front_width_m: 0.25,
+            front: |_, ahead| {
+                let face_top = 0.4 * CREST_M;
+                let upper = (CREST_M - face_top) / (0.65 * CREST_M / 0.2);
+                Some(if ahead <= upper {
+                    vec![(CREST_M * (1.0 - 0.65 * ahead / 0.2), 0.5)]
+                } else {
+                    vec![((face_top - 4.0 * (ahead - upper)).max(0.0), 0.5)]
+                })
+            },
+            cavity: no_cavity,
+            run_ups_m: [0.05; 4],
+            crest_u_fraction: Some(0.7),
+        };
+        let (detector, events) = train.run();
+        println!("{events:#?}");
+        let summary = detector.summary(0.0, 0.0).unwrap();
+        assert_eq!(summary.observed, "collapsing", "{:#?}", detector.breakers);
+    }
+
     /// Surging: the same crests run up the beach without breaking, the shoreline tip climbing
     /// 0.058–0.070 m above still water (1.9–2.2 times H/4 = 0.031 m) once a period and falling
     /// back. The crests stand 0.095 m above still water (3 H/4, so the criteria are tried on
