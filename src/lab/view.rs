@@ -101,7 +101,7 @@ fn chunks_under(name: &str, messages: &[LogMsg]) -> Result<Vec<Chunk>> {
 }
 
 /// The layout of merged runs: their flumes one above the other on the shared timeline, and
-/// below them each run's diagnostics (volume, energy, front) side by side.
+/// below them each run's volume V/V₀ side by side.
 fn side_by_side(names: &[String]) -> Blueprint {
     let flumes = Vertical::new(names.iter().map(|n| {
         Spatial2DView::new(n)
@@ -110,8 +110,8 @@ fn side_by_side(names: &[String]) -> Blueprint {
             .into()
     }));
     let plots = Horizontal::new(names.iter().map(|n| {
-        TimeSeriesView::new(format!("{n}: diagnostics"))
-            .with_origin(format!("/{n}/scalars/diagnostics"))
+        TimeSeriesView::new(format!("{n}: volume V/V₀"))
+            .with_origin(format!("/{n}/scalars/volume"))
             .into()
     }));
     Blueprint::new(Vertical::new([flumes.into(), plots.into()]).with_row_shares([3.0, 1.0]))

@@ -587,6 +587,11 @@ impl Worker {
         if let Err(e) = recorder.log(sim, &frame, timings.as_ref(), &events) {
             self.status.error = Some(format!("recording failed: {e}"));
         }
+        if let Some(s) = surf.as_ref()
+            && let Err(e) = recorder.log_breaking(sim, &s.recorder.detector)
+        {
+            self.status.error = Some(format!("recording failed: {e}"));
+        }
         if let Some(surf) = surf {
             surf.gauge_records.push((sim.time_s, frame.gauges.clone()));
             surf.log_averages(sim, recorder.logger());

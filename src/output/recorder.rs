@@ -8,6 +8,8 @@ use super::colormap::ColorScale;
 use super::rrd::{FrameView, RrdError, RrdLogger, Viewing};
 use super::summary::median;
 use super::timeseries::gauge_columns;
+use crate::case::WaveTheory;
+use crate::diagnostics::breaking::BreakingDetector;
 use crate::diagnostics::{self, Integrals};
 use crate::simulation::Simulation;
 use crate::solver::StageTimings;
@@ -54,16 +56,16 @@ pub struct FrameRecorder {
     logger: RrdLogger,
     columns: Vec<String>,
     with_mesh: bool,
+    /// What the breaker map and the breaking mark last showed: the number of breakers and
+    /// the Iribarren number (the lab's panel changes it).
+    breaking_shown: Option<(usize, f64)>,
 }
 
 impl FrameRecorder {
     /// Records to the .rrd file `path` (laid out for review), under the application id `app`.
     pub fn to_file(path: &Path, app: &str, sim: &Simulation) -> Result<Self, RrdError> {
         let (outline, scale, radius) = scene(sim);
-        Ok(Self::with_logger(
-            RrdLogger::create(path, app, &outline, scale, radius)?,
-            sim,
-        ))
+        Self::with_logger(RrdLogger::create(path, app, &outline, scale, radius)?, sim)
     }
 
     /// Records into an existing stream (the lab's, which feeds the viewer and maybe a file),
@@ -74,19 +76,64 @@ impl FrameRecorder {
         viewing: Viewing,
     ) -> Result<Self, RrdError> {
         let (outline, scale, radius) = scene(sim);
-        Ok(Self::with_logger(
+        Self::with_logger(
             RrdLogger::from_stream(stream, &outline, scale, radius, viewing)?,
             sim,
-        ))
+        )
     }
 
-    fn with_logger(logger: RrdLogger, sim: &Simulation) -> Self {
+    fn with_logger(logger: RrdLogger, sim: &Simulation) -> Result<Self, RrdError> {
         let out = &sim.case.output;
-        FrameRecorder {
+        if has_breaker_map(sim) {
+            logger.add_breaker_map()?;
+        }
+        if let Some(window) = surf_zone_window_m(sim) {
+            logger.open_on(window)?;
+        }
+        Ok(FrameRecorder {
             logger,
             columns: gauge_columns(&out.gauges_x_m, &out.probes_m),
             with_mesh: out.mesh,
+            breaking_shown: None,
+        })
+    }
+
+    /// The run's breaking on the breaker map and the flume ([`RrdLogger::log_breaker`]): its
+    /// Iribarren number, the newest breaker's type and where it broke. Logged when a breaker
+    /// has been classified since the last call, or the wave changed (the lab's panel).
+    pub fn log_breaking(
+        &mut self,
+        sim: &Simulation,
+        detector: &BreakingDetector,
+    ) -> Result<(), RrdError> {
+        let Some(predicted) = detector.predicted else {
+            return Ok(());
+        };
+        let iribarren = if has_breaker_map(sim) {
+            detector.iribarren
+        } else {
+            f64::NAN
+        };
+        let now = (detector.breakers.len(), iribarren);
+        let same = self
+            .breaking_shown
+            .is_some_and(|(n, xi)| n == now.0 && (xi == now.1 || (xi.is_nan() && now.1.is_nan())));
+        if same {
+            return Ok(());
         }
+        self.breaking_shown = Some(now);
+        let newest = detector.breakers.last();
+        let at = newest.map(|b| {
+            let level = sim.case.still_level_at(b.x_b_m).unwrap_or(b.h_b_m);
+            [b.x_b_m, level]
+        });
+        self.logger.log_breaker(
+            sim.time_s,
+            iribarren,
+            newest.map(|b| b.observed.name()),
+            predicted.name(),
+            at,
+        )
     }
 
     /// The logger, for what is logged beside the frames (surf views, profiles).
@@ -107,12 +154,15 @@ impl FrameRecorder {
             self.logger.log_text(sim.time_s, "events/breaking", e)?;
         }
         let m = &frame.integrals;
+        // One plot per unit (the group before the slash); volume_m2 is timeseries.csv's.
         let mut scalars: Vec<(String, f64)> = vec![
-            ("volume_m2".into(), m.volume_m2),
-            ("volume_ratio".into(), m.volume_m2 / sim.initial_volume_m2),
-            ("kinetic_energy_j_per_m".into(), m.kinetic_energy_j_per_m),
-            ("max_speed_m_s".into(), m.max_speed_m_s),
-            ("front_x_m".into(), m.front_x_m),
+            (
+                "volume/V_over_V0".into(),
+                m.volume_m2 / sim.initial_volume_m2,
+            ),
+            ("energy/kinetic_j_per_m".into(), m.kinetic_energy_j_per_m),
+            ("speed/max_m_s".into(), m.max_speed_m_s),
+            ("front/x_m".into(), m.front_x_m),
         ];
         if let Some(t) = timings {
             scalars.extend(
@@ -151,6 +201,37 @@ impl FrameRecorder {
     pub fn flush(&self) {
         self.logger.flush();
     }
+}
+
+/// Whether the run's recording gets the breaker map: a beach and a periodic wave (Battjes's
+/// bands are drawn for periodic waves; a solitary wave's breaking point is still marked).
+fn has_breaker_map(sim: &Simulation) -> bool {
+    sim.case.flume.beach.is_some()
+        && sim
+            .case
+            .wavemaker
+            .as_ref()
+            .is_some_and(|w| w.theory != WaveTheory::Solitary && w.period_s > 0.0)
+}
+
+/// The surf zone of a flume with a beach and a wavemaker, [x_min, x_max, y_min, y_max] in m:
+/// from twice the distance from the still shoreline at which a wave of the case's height H
+/// breaks (in about 1.5 H of water: H_b ≈ 1.2 H at H_b/h_b ≈ 0.8) to a run-up of 2 H, and from
+/// the bed there to 2 H above still water, within the flume.
+fn surf_zone_window_m(sim: &Simulation) -> Option<[f64; 4]> {
+    let case = &sim.case;
+    let (beach, w) = (case.flume.beach.as_ref()?, case.wavemaker.as_ref()?);
+    let shoreline = crate::diagnostics::surface::still_shoreline_x_m(case);
+    let level = case.still_level_at(beach.toe_x_m)?;
+    if !(shoreline.is_finite() && beach.slope > 0.0 && w.height_m > 0.0) {
+        return None;
+    }
+    let x0 = (shoreline - 3.0 * w.height_m / beach.slope).max(w.x_m);
+    let x1 = (shoreline + 2.0 * w.height_m / beach.slope).min(case.flume.length_m);
+    let margin = 0.25 * w.height_m;
+    let y0 = case.bed_y_at(x0) - margin;
+    let y1 = level + 2.0 * w.height_m;
+    (x1 > x0 && y1 > y0).then_some([x0, x1, y0, y1])
 }
 
 /// The static scene of a simulation's recording: the flume's outline, the u1 colour scale and

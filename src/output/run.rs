@@ -109,6 +109,7 @@ pub fn run(case: &Case, opts: &RunOptions) -> Result<RunOutcome, RunError> {
         }
         if let Some(rrd) = rrd.as_mut() {
             rrd.log(sim, &frame, last, &events).map_err(rrd_err)?;
+            rrd.log_breaking(sim, &surf.detector).map_err(rrd_err)?;
         }
         gauge_records.push((sim.time_s, frame.gauges));
         series.push(frame.integrals);

@@ -12,33 +12,17 @@ use std::sync::OnceLock;
 const FONT: &str = "sans-serif";
 static DEJAVU_SANS: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
 
-/// The types on the y axis, bottom to top.
-pub const TYPES: [&str; 5] = ["spilling", "plunging", "collapsing", "surging", "none"];
+use crate::output::breaker_map::BAND_NAMES;
+pub use crate::output::breaker_map::{
+    BREAKING_POINT_LIMITS, DEEP_WATER_LIMITS, TYPE_COLORS, TYPES, type_index,
+};
 
-/// Colour of each type in [`TYPES`] (points, hollow markers, the recording).
-pub const TYPE_COLORS: [[u8; 3]; 5] = [
-    [31, 119, 180],
-    [44, 160, 44],
-    [255, 127, 14],
-    [214, 39, 40],
-    [110, 110, 110],
-];
-
-/// Battjes's bands: (upper limit, name, fill).
+/// Battjes's bands' fills, below, between and above the limits.
 const BAND_COLORS: [RGBColor; 3] = [
     RGBColor(198, 219, 239),
     RGBColor(199, 233, 192),
     RGBColor(253, 208, 162),
 ];
-const BAND_NAMES: [&str; 3] = ["spilling", "plunging", "collapsing / surging"];
-/// Battjes (1974): limits in ξ₀ and in ξ_b.
-pub const DEEP_WATER_LIMITS: [f64; 2] = [0.5, 3.3];
-pub const BREAKING_POINT_LIMITS: [f64; 2] = [0.4, 2.0];
-
-/// The y position of a type name (`None` for a name the map does not know).
-pub fn type_index(name: &str) -> Option<usize> {
-    TYPES.iter().position(|t| *t == name)
-}
 
 fn type_color(k: usize) -> RGBColor {
     let [r, g, b] = TYPE_COLORS[k];

@@ -6,7 +6,7 @@
 
 use super::figure::{BREAKING_POINT_LIMITS, DEEP_WATER_LIMITS, TYPE_COLORS, TYPES, type_index};
 use super::table::{Row, markdown};
-use rerun::archetypes::{LineStrips2D, Points2D, TextDocument, Transform3D};
+use rerun::archetypes::{Points2D, TextDocument};
 use rerun::blueprint::{
     Blueprint, BlueprintActivation, Horizontal, Spatial2DView, TextDocumentView,
 };
@@ -79,8 +79,6 @@ fn log_map(
     limits: [f64; 2],
     with_prediction: bool,
 ) -> Result<(), RecordingStreamError> {
-    // Rerun's 2D views draw +y down: flip so that the types stack upwards.
-    rec.log_static(entity, &Transform3D::from_scale((1.0, -1.0, 1.0)))?;
     let observed: Vec<([f32; 2], [u8; 3], String)> = points
         .iter()
         .filter_map(|(x, r)| {
@@ -116,16 +114,6 @@ fn log_map(
                 .with_draw_order(10.0),
         )?;
     }
-    let top = (TYPES.len() - 1) as f32 + 0.5;
-    rec.log_static(
-        format!("{entity}/battjes"),
-        &LineStrips2D::new(
-            limits
-                .iter()
-                .map(|l| vec![[*l as f32, -0.5], [*l as f32, top]]),
-        )
-        .with_colors([[120, 120, 120]])
-        .with_radii([Radius::new_ui_points(1.0)]),
-    )?;
+    crate::output::breaker_map::log_axes(rec, entity, limits)?;
     Ok(())
 }

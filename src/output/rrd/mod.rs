@@ -13,6 +13,9 @@
 //! - `world/mesh`: triangle edges (each once), thin, only on frames that
 //!   carry triangles; cleared on the next frame without them so that an old
 //!   mesh is never drawn over newer particles.
+//! - `world/breaker`: the breaking point of the newest breaker, labelled with its type.
+//! - `breaker_map`: Battjes's bands against ξ₀, one row per type (static, `breaker_map.rs`),
+//!   and `breaker_map/run`, the run's point on it (its ξ₀ and observed type).
 //! - `scalars/<group>`: one entity per plot. A scalar named `group/series` is instance
 //!   `series` of `scalars/group`; a name without a group belongs to `scalars/diagnostics`.
 //!   The series names are logged statically as `SeriesLines` names, in the order first seen;
@@ -24,6 +27,7 @@
 //!
 //! Time is the duration timeline `sim_time` (seconds of simulated time).
 
+use std::cell::Cell;
 use std::collections::HashMap;
 use std::fmt;
 use std::path::Path;
@@ -58,6 +62,7 @@ const ORDER_WALLS: f32 = 31.0;
 const ORDER_MESH: f32 = 35.0;
 const ORDER_BOUNDARY: f32 = 40.0;
 const ORDER_FLUME: f32 = 50.0;
+const ORDER_BREAKER: f32 = 60.0;
 
 /// One output frame, borrowed from the solver state.
 #[derive(Debug, Clone, Copy)]
@@ -164,6 +169,12 @@ pub struct RrdLogger {
     scalar_groups: Vec<ScalarGroup>,
     group_index: HashMap<String, usize>,
     viewing: Viewing,
+    /// Which optional tabs the blueprint has: the surf-zone views, the breaker map.
+    surf_views: Cell<bool>,
+    breaker_map: Cell<bool>,
+    /// The part of the flume the flume view opens on, [x_min, x_max, y_min, y_max] in m (the
+    /// whole flume when `None`).
+    flume_window_m: Cell<Option<[f64; 4]>>,
 }
 
 impl RrdLogger {
@@ -220,9 +231,12 @@ impl RrdLogger {
             scalar_groups: Vec::new(),
             group_index: HashMap::new(),
             viewing,
+            surf_views: Cell::new(false),
+            breaker_map: Cell::new(false),
+            flume_window_m: Cell::new(None),
         };
         logger.log_static_scene(flume_outline)?;
-        logger.send_blueprint(false)?;
+        logger.send_blueprint()?;
         Ok(logger)
     }
 
@@ -262,19 +276,108 @@ impl RrdLogger {
         Ok(())
     }
 
-    /// Sends the blueprint again with the surf-zone views beside the flume: the undertow
-    /// profiles (`/profiles`) and the space–time images (`/space_time`). A run calls it once
-    /// these are logged; the viewer then shows them as tabs of the left column.
+    /// Sends the blueprint again with the surf-zone views as tabs beside the flume: the
+    /// undertow profiles (`/profiles`) and the space–time images (`/space_time`). A run calls
+    /// it once these are logged.
     pub fn add_surf_views(&self) -> Result<(), RrdError> {
-        self.send_blueprint(true)
+        self.surf_views.set(true);
+        self.send_blueprint()
     }
 
-    fn send_blueprint(&self, surf_views: bool) -> Result<(), RrdError> {
-        let flume = Spatial2DView::new("flume")
+    /// Draws the frame of the breaker-type map (`/breaker_map`: Battjes's bands against ξ₀,
+    /// one row per type) and adds its tab beside the flume. The run's point on it comes with
+    /// [`Self::log_breaker`].
+    pub fn add_breaker_map(&self) -> Result<(), RrdError> {
+        super::breaker_map::log_axes(
+            &self.rec,
+            "breaker_map",
+            super::breaker_map::DEEP_WATER_LIMITS,
+        )?;
+        self.breaker_map.set(true);
+        self.send_blueprint()
+    }
+
+    /// At `t_s`: the run's point on the breaker map, at its Iribarren number `iribarren` and
+    /// the row of the `observed` type (before any breaker, a hollow grey ring on the row of
+    /// the `predicted` one), and on the flume the breaking point `at` (x, y in m) labelled
+    /// with its type, when there is one.
+    pub fn log_breaker(
+        &self,
+        t_s: f64,
+        iribarren: f64,
+        observed: Option<&str>,
+        predicted: &str,
+        at: Option<[f64; 2]>,
+    ) -> Result<(), RrdError> {
+        use super::breaker_map::{TYPE_COLORS, type_index};
+        self.set_time(t_s)?;
+        let (row, colour, label) = match observed.and_then(|o| Some((o, type_index(o)?))) {
+            Some((name, k)) => (
+                k,
+                TYPE_COLORS[k],
+                format!("this run: ξ₀ = {iribarren:.2}, {name}"),
+            ),
+            None => (
+                type_index(predicted).unwrap_or(TYPE_COLORS.len() - 1),
+                TYPE_COLORS[TYPE_COLORS.len() - 1],
+                format!("this run: ξ₀ = {iribarren:.2}, no breaker yet (predicted {predicted})"),
+            ),
+        };
+        if iribarren.is_finite() {
+            self.rec.log(
+                "breaker_map/run",
+                &Points2D::new([[iribarren as f32, row as f32]])
+                    .with_colors([colour])
+                    .with_labels([label])
+                    .with_radii([Radius::new_scene_units(0.08)])
+                    .with_draw_order(20.0),
+            )?;
+        }
+        match (observed, at) {
+            (Some(name), Some([x, y])) => {
+                let k = type_index(name).unwrap_or(TYPE_COLORS.len() - 1);
+                self.rec.log(
+                    "world/breaker",
+                    &Points2D::new([to_f32([x, y])])
+                        .with_colors([TYPE_COLORS[k]])
+                        .with_labels([format!("breaking: {name}")])
+                        .with_radii([Radius::new_ui_points(6.0)])
+                        .with_draw_order(ORDER_BREAKER),
+                )?;
+            }
+            // A new wave (the lab's panel): the old wave's mark goes.
+            _ => self.rec.log("world/breaker", &Clear::flat())?,
+        }
+        Ok(())
+    }
+
+    /// Opens the flume view on `window_m` = [x_min, x_max, y_min, y_max], m (the surf zone of
+    /// a beach); the view zooms out to the whole flume as usual (scroll, or double-click).
+    pub fn open_on(&self, window_m: [f64; 4]) -> Result<(), RrdError> {
+        self.flume_window_m.set(Some(window_m));
+        self.send_blueprint()
+    }
+
+    fn send_blueprint(&self) -> Result<(), RrdError> {
+        let flume: rerun::blueprint::ContainerLike = Spatial2DView::new("flume")
             .with_origin("/")
-            .with_contents(["/world/**"]);
-        let left: rerun::blueprint::ContainerLike = if surf_views {
-            // Each picture with its legend below it.
+            .with_contents(["/world/**"])
+            .into();
+        let flume_view = match &flume {
+            rerun::blueprint::ContainerLike::View(v) => Some(v.blueprint_path()),
+            _ => None,
+        };
+        // The flume over the window's width, with its companions as tabs: the breaker map,
+        // and each surf-zone picture with its legend below it.
+        let mut top: Vec<rerun::blueprint::ContainerLike> = vec![flume];
+        if self.breaker_map.get() {
+            top.push(
+                Spatial2DView::new("breaker map")
+                    .with_origin("/breaker_map")
+                    .into(),
+            );
+        }
+        if self.surf_views.get() {
             let with_legend = |title: &str, origin: &str| -> rerun::blueprint::ContainerLike {
                 Vertical::new([
                     Spatial2DView::new(title).with_origin(origin).into(),
@@ -286,31 +389,39 @@ impl RrdLogger {
                 .with_name(title)
                 .into()
             };
-            Tabs::new([
-                flume.into(),
+            top.extend([
                 with_legend("undertow ū(z)", "/profiles"),
                 with_legend("η(x, t)", "/space_time/eta"),
                 with_legend("u1(x, t)", "/space_time/u1"),
-            ])
-            .into()
-        } else {
-            flume.into()
-        };
-        // Physical series and per-stage timings have different units: one view each.
-        let scalars = TimeSeriesView::new("diagnostics").with_origin("/scalars/diagnostics");
+            ]);
+        }
+        let top: rerun::blueprint::ContainerLike = Tabs::new(top).into();
+        // One plot per unit: the gauges, and the run's integrals one quantity at a time.
         let gauges =
             TimeSeriesView::new("gauges: η (m), u and w (m/s)").with_origin("/scalars/gauges");
-        let timings = TimeSeriesView::new("ms per stage").with_origin("/scalars/timing_ms");
         let info = Tabs::new([
-            scalars.into(),
-            timings.into(),
+            TimeSeriesView::new("volume V/V₀")
+                .with_origin("/scalars/volume")
+                .into(),
+            TimeSeriesView::new("kinetic energy (J/m)")
+                .with_origin("/scalars/energy")
+                .into(),
+            TimeSeriesView::new("max speed (m/s)")
+                .with_origin("/scalars/speed")
+                .into(),
+            TimeSeriesView::new("front x (m)")
+                .with_origin("/scalars/front")
+                .into(),
+            TimeSeriesView::new("ms per stage")
+                .with_origin("/scalars/timing_ms")
+                .into(),
             TextDocumentView::new("legend")
                 .with_origin("/legend")
                 .into(),
             TextLogView::new("log").with_origin("/").into(),
         ]);
-        let side = Vertical::new([gauges.into(), info.into()]).with_row_shares([1.0, 1.0]);
-        let root = Horizontal::new([left, side.into()]).with_column_shares([3.0, 2.0]);
+        let plots = Horizontal::new([gauges.into(), info.into()]).with_column_shares([1.0, 1.0]);
+        let root = Vertical::new([top, plots.into()]).with_row_shares([3.0, 2.0]);
         // The viewer's own side panels start collapsed: the flume and the plots get the room.
         let blueprint = Blueprint::new(root)
             .with_blueprint_panel(BlueprintPanel::new().with_state(PanelState::Collapsed))
@@ -321,7 +432,73 @@ impl RrdLogger {
                     Viewing::Live => PanelState::Hidden,
                 },
             ));
-        blueprint.send(&self.rec, BlueprintActivation::default())?;
+        match (self.flume_window_m.get(), flume_view) {
+            (Some(window), Some(view)) => self.send_with_bounds(&blueprint, &view, window),
+            _ => Ok(blueprint.send(&self.rec, BlueprintActivation::default())?),
+        }
+    }
+
+    /// Sends `blueprint` with the 2D view at `view` opened on `window_m`. Rerun 0.36's Rust
+    /// blueprint API cannot set a 2D view's visual bounds (`../shared/stack.md`), but the
+    /// viewer reads them from the blueprint store like any other view property. So the
+    /// blueprint is sent into a memory sink, the bounds are logged into the same blueprint
+    /// store (same recording id, the `blueprint` timeline at 0, the view's path), and all of it
+    /// goes to the recording with the blueprint's own activation command.
+    fn send_with_bounds(
+        &self,
+        blueprint: &Blueprint,
+        view: &EntityPath,
+        window_m: [f64; 4],
+    ) -> Result<(), RrdError> {
+        use rerun::external::re_sdk_types::blueprint::archetypes::VisualBounds2D;
+        use rerun::external::re_sdk_types::datatypes::{Range1D, Range2D};
+        use rerun::log::LogMsg;
+        let app = self
+            .rec
+            .store_info()
+            .map_or_else(|| "surflab".into(), |i| i.application_id().clone());
+        let (capture, captured) = RecordingStreamBuilder::new(app.clone()).memory()?;
+        blueprint.send(&capture, BlueprintActivation::default())?;
+        let flush = |e: rerun::sink::SinkFlushError| {
+            RrdError::InvalidInput(format!("the blueprint could not be flushed: {e}"))
+        };
+        capture.flush_blocking().map_err(flush)?;
+        let mut messages = Vec::new();
+        let mut activation = None;
+        for msg in captured.take() {
+            match msg {
+                LogMsg::BlueprintActivationCommand(cmd) => activation = Some(cmd),
+                m if m.store_id().kind() == rerun::StoreKind::Blueprint => messages.push(m),
+                _ => {}
+            }
+        }
+        let (Some(activation), Some(store)) =
+            (activation, messages.first().map(|m| m.store_id().clone()))
+        else {
+            return Ok(blueprint.send(&self.rec, BlueprintActivation::default())?);
+        };
+        let (bounds, logged) = RecordingStreamBuilder::new(app)
+            .recording_id(store.recording_id().clone())
+            .blueprint()
+            .memory()?;
+        bounds.set_time_sequence("blueprint", 0);
+        // The view's space is the root, where `world`'s flip makes physical y point down.
+        let [x0, x1, y0, y1] = window_m;
+        bounds.log(
+            format!("{view}/VisualBounds2D"),
+            &VisualBounds2D::new(Range2D {
+                x_range: Range1D([x0, x1]),
+                y_range: Range1D([-y1, -y0]),
+            }),
+        )?;
+        bounds.flush_blocking().map_err(flush)?;
+        messages.extend(
+            logged
+                .take()
+                .into_iter()
+                .filter(|m| !matches!(m, LogMsg::SetStoreInfo(_))),
+        );
+        self.rec.send_blueprint(messages, activation);
         Ok(())
     }
 

@@ -436,3 +436,60 @@ fn rrd_size_per_frame_5000_particles() {
         println!("rrd size: {line}");
     }
 }
+
+/// The breaker map, the run's point on it, the breaking mark on the flume, and the flume view
+/// opened on a window: the entities are in the recording and the bounds in its blueprint.
+#[test]
+fn the_breaker_map_and_the_surf_zone_window_are_recorded() {
+    let path = temp_rrd("breaker_map");
+    let logger = RrdLogger::create(
+        &path,
+        "surflab-test",
+        &OUTLINE,
+        ColorScale::symmetric(1.0),
+        0.01,
+    )
+    .expect("create");
+    logger.add_breaker_map().expect("map");
+    logger.open_on([1.0, 3.0, 0.0, 0.8]).expect("window");
+    logger
+        .log_breaker(0.5, 1.2, None, "plunging", None)
+        .expect("before breaking");
+    logger
+        .log_breaker(1.0, 1.2, Some("plunging"), "plunging", Some([2.5, 0.6]))
+        .expect("after breaking");
+    logger.flush();
+    drop(logger);
+    let msgs = read_rrd(&path);
+    let s = summarize(&msgs);
+    for static_part in [
+        "/breaker_map/bands",
+        "/breaker_map/battjes",
+        "/breaker_map/rows",
+    ] {
+        assert_eq!(
+            s.rows.get(static_part),
+            Some(&1),
+            "{static_part}: {:?}",
+            s.rows
+        );
+    }
+    assert_eq!(s.rows.get("/breaker_map/run"), Some(&2), "{:?}", s.rows);
+    // A clear before the first breaker (a new wave has no mark), then the mark.
+    assert_eq!(s.rows.get("/world/breaker"), Some(&2), "{:?}", s.rows);
+    let bounds: Vec<String> = msgs
+        .iter()
+        .filter(|m| m.store_id().kind() == StoreKind::Blueprint)
+        .filter_map(|m| match m {
+            LogMsg::ArrowMsg(_, arrow) => Some(Chunk::from_arrow_msg(arrow).expect("chunk")),
+            _ => None,
+        })
+        .map(|c| c.entity_path().to_string())
+        .filter(|p| p.ends_with("/VisualBounds2D"))
+        .collect();
+    println!("bounds logged at {bounds:?}");
+    // Sent with the map's tab and again with the window: the second blueprint carries them.
+    assert_eq!(bounds.len(), 1, "{bounds:?}");
+    assert!(bounds[0].starts_with("/view/"), "{bounds:?}");
+    let _ = std::fs::remove_file(&path);
+}
