@@ -121,6 +121,10 @@ pub fn classify(
     }
 }
 
+/// The height, in units of the wave's H, of a crest whose breaking is the wave breaking: the
+/// summary's breakers are at least this high (see [`BreakingDetector::summary`]).
+pub const WAVE_BREAKER_H: f64 = 0.75;
+
 /// The shortest fold that counts as a jet, and the horizontal span over which a face steeper
 /// than 60° counts as a breaking face, m, for particle spacing `h_m` and wave height
 /// `height_m`: 2h (one particle above the surface is not a jet) or 0.3 H, whichever is longer.
@@ -493,7 +497,9 @@ impl BreakingDetector {
     /// first waves have passed: the point is taken from the breakers after `steady_from_s`
     /// (the spin-up of the surf averages) that are at least 0.75 H high, which leaves out the
     /// ramp's low crests and the reforming bores shoreward of the break; without any, from the
-    /// first breaker. A solitary wave is one wave: its point is its first breaker's
+    /// first breaker at least 0.75 H high. An onset on a lower crest is not the wave breaking:
+    /// where waves surge up a steep beach, the incoming face steepens over the backwash in
+    /// features of 0.05–0.3 H, and the first of those must not type the run. A solitary wave is one wave: its point is its first breaker's
     /// (`basis` "first"; what breaks after it are its bore re-forming and its backwash).
     pub fn summary(&self, x_origin_m: f64, steady_from_s: f64) -> Option<BreakingSummary> {
         let s = self.setup.as_ref()?;
@@ -501,14 +507,18 @@ impl BreakingDetector {
             .breakers
             .iter()
             .filter(|_| !s.single_wave)
-            .filter(|b| b.t_b_s >= steady_from_s && b.height_b_m >= 0.75 * s.height_m)
+            .filter(|b| b.t_b_s >= steady_from_s && b.height_b_m >= WAVE_BREAKER_H * s.height_m)
             .collect();
         let run_ups = self.swash.per_wave_m(s.time_scale_s, s.single_wave);
         let run_up = run_ups.iter().copied().fold(0.0, f64::max);
         let first = self.breakers.first();
+        let first_wave = self
+            .breakers
+            .iter()
+            .find(|b| b.height_b_m >= WAVE_BREAKER_H * s.height_m);
         let (basis, used): (&'static str, Vec<&Breaker>) = if !steady.is_empty() {
             ("steady", steady.clone())
-        } else if let Some(b) = first {
+        } else if let Some(b) = first_wave {
             ("first", vec![b])
         } else {
             ("none", Vec::new())
@@ -1122,6 +1132,47 @@ mod tests {
         assert_eq!(summary.basis, "none");
         assert_eq!(summary.x_b_m, None);
         assert!(summary.run_up_m >= 0.25 * CREST_M, "{}", summary.run_up_m);
+    }
+
+    /// An onset on a low feature of a surging wave (the face steepening over the backwash, in
+    /// the 1:4 sweep at ξ₀ = 2.72 crests of 0.004–0.044 m on a 0.10 m wave) does not type the
+    /// run: without a steady breaker the summary takes the first breaker at least 0.75 H high,
+    /// and with none it is a surging run. A breaker that high is taken.
+    #[test]
+    fn a_low_onset_on_a_surging_wave_is_not_the_wave_breaking() {
+        let (mut detector, _) = surging_train().run();
+        let height_m = detector.setup.as_ref().unwrap().height_m;
+        let low = Breaker {
+            observed: BreakerType::Plunging,
+            onset: "steep_face",
+            x_b_m: 7.9,
+            h_b_m: 0.2,
+            height_b_m: 0.2 * height_m,
+            t_b_s: 7.0,
+            overturn_reach_m: 0.03,
+            overturn_top_m: 0.02,
+            cavity: false,
+            steep_face: true,
+            fold_x_m: None,
+            fold_h_m: None,
+            fold_t_s: None,
+        };
+        detector.breakers.push(low);
+        let summary = detector.summary(0.0, 100.0).unwrap();
+        assert_eq!(summary.basis, "none");
+        assert_eq!(summary.observed, "surging");
+        assert_eq!(summary.x_b_m, None);
+        let whole = Breaker {
+            observed: BreakerType::Collapsing,
+            height_b_m: 0.8 * height_m,
+            t_b_s: 9.0,
+            ..low
+        };
+        detector.breakers.push(whole);
+        let summary = detector.summary(0.0, 100.0).unwrap();
+        assert_eq!(summary.basis, "first");
+        assert_eq!(summary.observed, "collapsing");
+        assert_eq!(summary.t_b_s, Some(9.0));
     }
 
     /// A surging run's run-ups are its shoreline tip's highest, one per period: four climbs
