@@ -123,10 +123,8 @@ impl FrameRecorder {
         }
         self.breaking_shown = Some(now);
         let newest = detector.breakers.last();
-        let at = newest.map(|b| {
-            let level = sim.case.still_level_at(b.x_b_m).unwrap_or(b.h_b_m);
-            [b.x_b_m, level]
-        });
+        // At the still water line over the breaking point (h_b is the still depth there).
+        let at = newest.map(|b| [b.x_b_m, sim.case.bed_y_at(b.x_b_m) + b.h_b_m]);
         self.logger.log_breaker(
             sim.time_s,
             iribarren,
