@@ -1,0 +1,157 @@
+//! The recording's blueprint: the flume over the window's width with its companion tabs, the
+//! plots below, one unit each, and the flume view's opening window.
+
+use super::{RrdError, RrdLogger, SIM_TIMELINE, Viewing};
+use rerun::EntityPath;
+use rerun::RecordingStreamBuilder;
+use rerun::blueprint::components::PanelState;
+use rerun::blueprint::{
+    Blueprint, BlueprintActivation, BlueprintPanel, Horizontal, SelectionPanel, Spatial2DView,
+    Tabs, TextDocumentView, TextLogView, TimePanel, TimeSeriesView, Vertical,
+};
+
+impl RrdLogger {
+    pub(super) fn send_blueprint(&self) -> Result<(), RrdError> {
+        let flume: rerun::blueprint::ContainerLike = Spatial2DView::new("flume")
+            .with_origin("/")
+            .with_contents(["/world/**"])
+            .into();
+        let flume_view = match &flume {
+            rerun::blueprint::ContainerLike::View(v) => Some(v.blueprint_path()),
+            _ => None,
+        };
+        // The flume over the window's width, with its companions as tabs: the breaker map,
+        // and each surf-zone picture with its legend below it.
+        let mut top: Vec<rerun::blueprint::ContainerLike> = vec![flume];
+        if self.breaker_map.get() {
+            top.push(
+                Spatial2DView::new("breaker map")
+                    .with_origin("/breaker_map")
+                    .into(),
+            );
+        }
+        if self.surf_views.get() {
+            let with_legend = |title: &str, origin: &str| -> rerun::blueprint::ContainerLike {
+                Vertical::new([
+                    Spatial2DView::new(title).with_origin(origin).into(),
+                    TextDocumentView::new("legend")
+                        .with_origin(format!("{origin}_legend"))
+                        .into(),
+                ])
+                .with_row_shares([6.0, 1.0])
+                .with_name(title)
+                .into()
+            };
+            top.extend([
+                with_legend("undertow ū(z)", "/profiles"),
+                with_legend("η(x, t)", "/space_time/eta"),
+                with_legend("u1(x, t)", "/space_time/u1"),
+            ]);
+        }
+        let top: rerun::blueprint::ContainerLike = Tabs::new(top).into();
+        // One plot per unit: the gauges, and the run's integrals one quantity at a time.
+        let gauges =
+            TimeSeriesView::new("gauges: η (m), u and w (m/s)").with_origin("/scalars/gauges");
+        let info = Tabs::new([
+            TimeSeriesView::new("volume V/V₀")
+                .with_origin("/scalars/volume")
+                .into(),
+            TimeSeriesView::new("kinetic energy (J/m)")
+                .with_origin("/scalars/energy")
+                .into(),
+            TimeSeriesView::new("max speed (m/s)")
+                .with_origin("/scalars/speed")
+                .into(),
+            TimeSeriesView::new("front x (m)")
+                .with_origin("/scalars/front")
+                .into(),
+            TimeSeriesView::new("ms per stage")
+                .with_origin("/scalars/timing_ms")
+                .into(),
+            TextDocumentView::new("legend")
+                .with_origin("/legend")
+                .into(),
+            TextLogView::new("log").with_origin("/").into(),
+        ]);
+        let plots = Horizontal::new([gauges.into(), info.into()]).with_column_shares([1.0, 1.0]);
+        let root = Vertical::new([top, plots.into()]).with_row_shares([3.0, 2.0]);
+        // The viewer's own side panels start collapsed: the flume and the plots get the room.
+        let blueprint = Blueprint::new(root)
+            .with_blueprint_panel(BlueprintPanel::new().with_state(PanelState::Collapsed))
+            .with_selection_panel(SelectionPanel::new().with_state(PanelState::Collapsed))
+            .with_time_panel(TimePanel::new().with_timeline(SIM_TIMELINE).with_state(
+                match self.viewing {
+                    Viewing::Review => PanelState::Collapsed,
+                    Viewing::Live => PanelState::Hidden,
+                },
+            ));
+        match (self.flume_window_m.get(), flume_view) {
+            (Some(window), Some(view)) => self.send_with_bounds(&blueprint, &view, window),
+            _ => Ok(blueprint.send(&self.rec, BlueprintActivation::default())?),
+        }
+    }
+
+    /// Sends `blueprint` with the 2D view at `view` opened on `window_m`. Rerun 0.36's Rust
+    /// blueprint API cannot set a 2D view's visual bounds (`../shared/stack.md`), but the
+    /// viewer reads them from the blueprint store like any other view property. So the
+    /// blueprint is sent into a memory sink, the bounds are logged into the same blueprint
+    /// store (same recording id, the `blueprint` timeline at 0, the view's path), and all of it
+    /// goes to the recording with the blueprint's own activation command.
+    fn send_with_bounds(
+        &self,
+        blueprint: &Blueprint,
+        view: &EntityPath,
+        window_m: [f64; 4],
+    ) -> Result<(), RrdError> {
+        use rerun::external::re_sdk_types::blueprint::archetypes::VisualBounds2D;
+        use rerun::external::re_sdk_types::datatypes::{Range1D, Range2D};
+        use rerun::log::LogMsg;
+        let app = self
+            .rec
+            .store_info()
+            .map_or_else(|| "surflab".into(), |i| i.application_id().clone());
+        let (capture, captured) = RecordingStreamBuilder::new(app.clone()).memory()?;
+        blueprint.send(&capture, BlueprintActivation::default())?;
+        let flush = |e: rerun::sink::SinkFlushError| {
+            RrdError::InvalidInput(format!("the blueprint could not be flushed: {e}"))
+        };
+        capture.flush_blocking().map_err(flush)?;
+        let mut messages = Vec::new();
+        let mut activation = None;
+        for msg in captured.take() {
+            match msg {
+                LogMsg::BlueprintActivationCommand(cmd) => activation = Some(cmd),
+                m if m.store_id().kind() == rerun::StoreKind::Blueprint => messages.push(m),
+                _ => {}
+            }
+        }
+        let (Some(activation), Some(store)) =
+            (activation, messages.first().map(|m| m.store_id().clone()))
+        else {
+            return Ok(blueprint.send(&self.rec, BlueprintActivation::default())?);
+        };
+        let (bounds, logged) = RecordingStreamBuilder::new(app)
+            .recording_id(store.recording_id().clone())
+            .blueprint()
+            .memory()?;
+        bounds.set_time_sequence("blueprint", 0);
+        // The view's space is the root, where `world`'s flip makes physical y point down.
+        let [x0, x1, y0, y1] = window_m;
+        bounds.log(
+            format!("{view}/VisualBounds2D"),
+            &VisualBounds2D::new(Range2D {
+                x_range: Range1D([x0, x1]),
+                y_range: Range1D([-y1, -y0]),
+            }),
+        )?;
+        bounds.flush_blocking().map_err(flush)?;
+        messages.extend(
+            logged
+                .take()
+                .into_iter()
+                .filter(|m| !matches!(m, LogMsg::SetStoreInfo(_))),
+        );
+        self.rec.send_blueprint(messages, activation);
+        Ok(())
+    }
+}
