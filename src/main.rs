@@ -69,9 +69,10 @@ enum Command {
         #[arg(long, value_name = "PATH", default_value = "runs/lab.rrd")]
         record_to: PathBuf,
     },
-    /// Run a wavemaker case and check its waves against theory (issue 3): a flap or piston
-    /// into an absorbing end, a standing wave at a wall, or a cnoidal piston. Prints each figure
-    /// against its bar, writes validation.json beside the run, exits non-zero if one fails.
+    /// Run a case and check it: a wavemaker's waves against theory (issue 3): a flap or piston
+    /// into an absorbing end, a standing wave at a wall, or a cnoidal piston; a dam break
+    /// against Martin & Moyce (1952). Prints each figure against its bar, writes
+    /// validation.json beside the run, exits non-zero if one fails.
     Validate {
         /// The case file, e.g. cases/flap_deep_water.toml.
         case: PathBuf,
@@ -304,7 +305,7 @@ fn cmd_validate(
     until: Option<f64>,
     set: &[String],
 ) -> Result<()> {
-    let (dir, case, drift, simulated, status) = match from {
+    let (dir, case, drift, simulated, status, particles) = match from {
         Some(dir) => {
             if !set.is_empty() || until.is_some() || out.is_some() {
                 bail!(
@@ -324,12 +325,14 @@ fn cmd_validate(
                     .with_context(|| format!("{}: no number {key}", file.display()))
             };
             let status = json["status"].as_str().unwrap_or("unknown").to_string();
+            let particles = json["particles"].as_u64().map(|n| n as usize);
             (
                 dir,
                 case,
                 number("volume_drift_max")?,
                 number("simulated_s")?,
                 status,
+                particles,
             )
         }
         None => {
@@ -356,7 +359,7 @@ fn cmd_validate(
                 s.particles, s.steps, s.simulated_s, s.wall_s, s.median_ms_per_step
             );
             let (drift, simulated, status) = (s.volume_drift_max, s.simulated_s, s.status.clone());
-            (dir, case, drift, simulated, status)
+            (dir, case, drift, simulated, status, Some(s.particles))
         }
     };
     if status != "ok" {
@@ -365,29 +368,47 @@ fn cmd_validate(
             dir.display()
         );
     }
-    let gauges = dir.join("gauges.csv");
-    let record = surflab::output::timeseries::read_gauges(&gauges)
-        .with_context(|| format!("reading {}", gauges.display()))?;
-    let report = surflab::validation::check_case(&case, &record, drift, simulated)
+    // A wavemaker's checks read the gauges; the dam break (no wavemaker) the time series.
+    let (record, series) = if case.wavemaker.is_some() {
+        let gauges = dir.join("gauges.csv");
+        let record = surflab::output::timeseries::read_gauges(&gauges)
+            .with_context(|| format!("reading {}", gauges.display()))?;
+        (record, None)
+    } else {
+        let file = dir.join("timeseries.csv");
+        let mut series = surflab::output::timeseries::read_dam_break_series(&file)
+            .with_context(|| format!("reading {}", file.display()))?;
+        series.particles = particles;
+        (Default::default(), Some(series))
+    };
+    let report = surflab::validation::check_case(&case, &record, series.as_ref(), drift, simulated)
         .with_context(|| format!("validating {}", case.name))?;
     println!(
         "{}: {}, averaged over t = {:.2}–{:.2} s",
         case.name, report.kind, report.window_s[0], report.window_s[1]
     );
+    // A count without decimals, a unit only where there is one.
+    let value = |v: f64, unit: &str| {
+        let number = if v.fract() == 0.0 && v.abs() < 1e15 {
+            format!("{v:.0}")
+        } else {
+            format!("{v:.5}")
+        };
+        format!("{number} {unit}").trim_end().to_string()
+    };
     for c in &report.checks {
         println!(
-            "  {:4}  {}: {:.5} {} ({:+.2} % of {:.5}; bar {})",
+            "  {:4}  {}: {} ({:+.2} % of {:.5}; bar {})",
             if c.passed { "pass" } else { "FAIL" },
             c.what,
-            c.measured,
-            c.unit,
+            value(c.measured, &c.unit),
             100.0 * c.error(),
             c.target,
             c.bar()
         );
     }
     for f in &report.figures {
-        println!("        {}: {:.5} {}", f.what, f.value, f.unit);
+        println!("        {}: {}", f.what, value(f.value, &f.unit));
     }
     let file = dir.join("validation.json");
     std::fs::write(&file, serde_json::to_string_pretty(&report)?)

@@ -4,6 +4,7 @@
 //! the volume recovery; with the initial volume they add up to `volume_m2`.
 
 use crate::diagnostics::Integrals;
+use crate::validation::DamBreakSeries;
 use std::io::Write;
 use std::path::Path;
 
@@ -61,6 +62,48 @@ pub fn read_column(path: &Path, name: &str) -> std::io::Result<Vec<f64>> {
     Ok(lines
         .filter_map(|l| l.split(',').nth(k).and_then(|v| v.parse().ok()))
         .collect())
+}
+
+/// Reads what the dam-break check compares from a `timeseries.csv` written by
+/// [`TimeseriesWriter`]: the columns t_s, front_x_m, left_wall_height_m and volume_m2 of every
+/// row (`particles` is left unknown; it is in the run's summary).
+pub fn read_dam_break_series(path: &Path) -> std::io::Result<DamBreakSeries> {
+    let bad = |m: String| {
+        std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            format!("{}: {m}", path.display()),
+        )
+    };
+    let text = std::fs::read_to_string(path)?;
+    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
+    let header: Vec<&str> = lines.next().unwrap_or_default().split(',').collect();
+    let names = ["t_s", "front_x_m", "left_wall_height_m", "volume_m2"];
+    let mut at = [0; 4];
+    for (k, name) in names.iter().enumerate() {
+        at[k] = header
+            .iter()
+            .position(|h| h == name)
+            .ok_or_else(|| bad(format!("no column {name}")))?;
+    }
+    let mut columns: [Vec<f64>; 4] = Default::default();
+    for (row, line) in lines.enumerate() {
+        let cells: Vec<&str> = line.split(',').collect();
+        for (k, name) in names.iter().enumerate() {
+            let value = cells
+                .get(at[k])
+                .and_then(|c| c.trim().parse().ok())
+                .ok_or_else(|| bad(format!("row {}: {name} is not a number", row + 1)))?;
+            columns[k].push(value);
+        }
+    }
+    let [t_s, front_x_m, left_wall_height_m, volume_m2] = columns;
+    Ok(DamBreakSeries {
+        t_s,
+        front_x_m,
+        left_wall_height_m,
+        volume_m2,
+        particles: None,
+    })
 }
 
 /// `gauges.csv`: `t_s`, then one column per surface-elevation gauge, `eta_<x in m, 3 decimals>`

@@ -1,19 +1,24 @@
 //! What `surflab validate` checks (issue 3): what a flume's gauge and probe records say about
-//! the waves its paddle made, against linear or cnoidal theory. [`check_case`] picks the check
-//! that fits the case; each check is a pure function of the case and the records. Reading
-//! `gauges.csv` and printing the verdicts is the binary's job.
+//! the waves its paddle made, against linear or cnoidal theory, and what the time series of a
+//! dam break says about its front and column, against Martin & Moyce (1952). [`check_case`]
+//! picks the check that fits the case; each check is a pure function of the case and the
+//! records. Reading `gauges.csv` or `timeseries.csv` and printing the verdicts is the binary's
+//! job.
 //!
 //! - `progressive`: a linear paddle into an absorbing end;
 //! - `standing`: a linear paddle against a vertical end wall;
 //! - `cnoidal`: a cnoidal piston;
+//! - `dam_break`: the collapse of a water column (no wavemaker);
 //! - `fit`: the fits and wave statistics they share.
 
 mod cnoidal;
+mod dam_break;
 mod fit;
 mod progressive;
 mod standing;
 
 pub use cnoidal::cnoidal;
+pub use dam_break::{DamBreakSeries, column_width, dam_break};
 pub use fit::harmonic_fit;
 pub use progressive::progressive;
 pub use standing::standing;
@@ -29,8 +34,11 @@ pub struct Check {
     pub what: String,
     pub measured: f64,
     pub target: f64,
-    /// Allowed |measured/target − 1|; `None` when the bar is an upper bound, measured < target.
+    /// Allowed |measured/target − 1|; `None` when the bar is an upper bound, measured < target
+    /// (or ≤ when `inclusive`).
     pub relative_tolerance: Option<f64>,
+    /// An upper bound the measured figure may reach.
+    pub inclusive: bool,
     pub unit: String,
     pub passed: bool,
 }
@@ -43,6 +51,7 @@ impl Check {
             measured,
             target,
             relative_tolerance: Some(tol),
+            inclusive: false,
             unit: unit.into(),
             passed: error.is_finite() && error <= tol,
         }
@@ -54,16 +63,31 @@ impl Check {
             measured,
             target: limit,
             relative_tolerance: None,
+            inclusive: false,
             unit: unit.into(),
             passed: measured < limit,
         }
     }
 
-    /// The bar in words: `±5 %` or `< 0.005`.
+    fn at_most(what: impl Into<String>, measured: f64, limit: f64, unit: &str) -> Self {
+        Self {
+            inclusive: true,
+            passed: measured <= limit,
+            ..Self::below(what, measured, limit, unit)
+        }
+    }
+
+    /// The bar in words: `0.1000 m ± 5 %`, `< 0.005` or `≤ 0.1`.
     pub fn bar(&self) -> String {
+        let unit = if self.unit.is_empty() {
+            String::new()
+        } else {
+            format!(" {}", self.unit)
+        };
         match self.relative_tolerance {
-            Some(tol) => format!("{:.4} {} ± {} %", self.target, self.unit, 100.0 * tol),
-            None => format!("< {} {}", self.target, self.unit),
+            Some(tol) => format!("{:.4}{unit} ± {} %", self.target, 100.0 * tol),
+            None if self.inclusive => format!("≤ {}{unit}", self.target),
+            None => format!("< {}{unit}", self.target),
         }
     }
 
@@ -123,22 +147,31 @@ pub enum CheckError {
     Theory(#[from] crate::waves::WaveError),
 }
 
-/// Validates the waves of a run of `case` from its gauge and probe `record`, with the check
-/// its wavemaker calls for: a cnoidal piston against cnoidal theory ([`cnoidal`]); a linear
-/// paddle into an absorbing end ([`progressive`], which also bars the run's
-/// `volume_drift_max` over its `simulated_s`) or, without one, against the end wall
-/// ([`standing`]). A case without a wavemaker, or with a solitary wave (`tests/solitary.rs`
-/// validates that one), is not applicable.
+/// Validates a run of `case` with the check its wavemaker calls for: a cnoidal piston
+/// against cnoidal theory ([`cnoidal`]); a linear paddle into an absorbing end
+/// ([`progressive`], which also bars the run's `volume_drift_max` over its `simulated_s`) or,
+/// without one, against the end wall ([`standing`]); these read the gauge and probe `record`.
+/// Without a wavemaker, the collapse of a water column at the left wall against Martin &
+/// Moyce ([`dam_break`]), from the run's time `series` (no series: an empty one, too short).
+/// Any other case without a wavemaker, or a solitary wave (`tests/solitary.rs` validates
+/// that one), is not applicable.
 pub fn check_case(
     case: &Case,
     record: &GaugeRecord,
+    series: Option<&DamBreakSeries>,
     volume_drift_max: f64,
     simulated_s: f64,
 ) -> Result<Report, CheckError> {
-    let wavemaker = case
-        .wavemaker
-        .as_ref()
-        .ok_or_else(|| CheckError::NotApplicable("the case has no wavemaker to validate".into()))?;
+    let Some(wavemaker) = case.wavemaker.as_ref() else {
+        return dam_break(case, series.unwrap_or(&DamBreakSeries::default())).map_err(
+            |e| match e {
+                CheckError::NotApplicable(why) => CheckError::NotApplicable(format!(
+                    "the case has no wavemaker, and the dam-break check does not apply: {why}"
+                )),
+                other => other,
+            },
+        );
+    };
     match wavemaker.theory {
         WaveTheory::Cnoidal => cnoidal(case, record),
         WaveTheory::Linear if case.absorber.is_some() => {
@@ -191,12 +224,20 @@ mod tests {
         Case::load(std::path::Path::new(&format!("cases/{name}.toml")), &[]).unwrap()
     }
 
-    /// Each wavemaker gets its own check; a case without one, or a solitary wave, none.
+    /// Each wavemaker gets its own check; a case without one the dam-break check if its water
+    /// is a column at the left wall, none otherwise; a solitary wave none.
     #[test]
     fn each_case_gets_the_check_its_wavemaker_calls_for() {
         // Too short a record for any window: the error says which check refused it.
         let record = test_record(&[0.0, 0.1], Vec::new());
-        let kind = |name: &str| match check_case(&case(name), &record, 0.0, 1.0) {
+        let series = DamBreakSeries {
+            t_s: vec![0.0, 0.1],
+            front_x_m: vec![0.146, 0.2],
+            left_wall_height_m: vec![0.292, 0.28],
+            volume_m2: vec![0.0426; 2],
+            particles: None,
+        };
+        let kind = |name: &str| match check_case(&case(name), &record, Some(&series), 0.0, 1.0) {
             Err(CheckError::TooShort(m)) => format!("too short: {m}"),
             Err(CheckError::NotApplicable(m)) => m,
             other => panic!("{name}: {other:?}"),
@@ -205,6 +246,8 @@ mod tests {
         assert!(kind("wall_reflection").contains("3 periods"));
         assert!(kind("piston_cnoidal").contains("5 periods"));
         assert!(kind("solitary").contains("tests/solitary.rs"));
-        assert!(kind("dam_break").contains("no wavemaker"));
+        assert!(kind("dam_break").contains("too short: the comparison runs to t = 0.280 s"));
+        assert!(kind("still_water").contains("no wavemaker"));
+        assert!(kind("still_water").contains("spans the flume"));
     }
 }
