@@ -9,6 +9,8 @@
 //! lumped mass ρA/3 per node, Laplacian A b_i·b_j, divergence (A/3) b_j, viscous force
 //! −2μ_e A S_e b_i, with S_e the element's strain rate.
 
+pub mod polygon;
+
 use crate::case::TauFormula;
 use nalgebra::{Matrix2, Vector2};
 

@@ -29,6 +29,8 @@
 //! the sloping front face, and since the front moves on, that wedge would be left behind as
 //! water at every step (a steady volume gain that grows with α).
 
+pub mod edt;
+
 use crate::geometry::PaddleFace;
 use crate::particles::{NodeKind, Particles};
 use nalgebra::Vector2;
