@@ -55,6 +55,24 @@ fn each_bad_case_is_refused_with_its_reason() {
             &["solver.alpha", "greater than 1"],
         ),
         (
+            "delta_negative",
+            format!("{GOOD}[solver]\ndelta = -0.01\n"),
+            &[],
+            &["solver.delta", "[0, 1]"],
+        ),
+        (
+            "delta_nan",
+            format!("{GOOD}[solver]\ndelta = nan\n"),
+            &[],
+            &["solver.delta", "[0, 1]"],
+        ),
+        (
+            "delta_large",
+            GOOD.into(),
+            &["--set", "solver.delta=1.5"],
+            &["solver.delta", "[0, 1]"],
+        ),
+        (
             "water_outside",
             GOOD.replace("x_end_m = 1.0", "x_end_m = 1.5"),
             &[],

@@ -170,7 +170,10 @@ fn a_thousand_random_changes_while_running() {
             0 => p.controls.height_m = Some(0.01 + 0.3 * next()),
             1 => p.controls.period_s = Some(0.5 + 4.0 * next()),
             2 => p.controls.slope = Some(0.02 + 0.5 * next()),
-            3 => p.controls.alpha = 1.05 + 0.6 * next(),
+            3 => {
+                p.controls.alpha = 1.05 + 0.6 * next();
+                p.controls.delta = if next() < 0.5 { 0.0 } else { 0.1 * next() };
+            }
             4 => p.controls.spacing_m = if next() < 0.5 { 0.05 } else { 0.06 },
             5 => p.worker.send(surflab::lab::worker::Command::Pause),
             6 => p.worker.send(surflab::lab::worker::Command::Run),

@@ -11,7 +11,17 @@ use surflab::simulation::Simulation;
 
 #[test]
 fn sloshing_period_matches_linear_theory() {
-    let case = common::case("sloshing.toml", &["particles.spacing_m=0.02"]);
+    check("solver.delta=0");
+}
+
+/// The same with the EDT polygons of δ = 0.03 (issue 24).
+#[test]
+fn sloshing_with_edt_polygons() {
+    check("solver.delta=0.03");
+}
+
+fn check(delta: &str) {
+    let case = common::case("sloshing.toml", &["particles.spacing_m=0.02", delta]);
     let depth = case.water[0].depth_m;
     let length = case.flume.length_m;
     let g = case.fluid.gravity_m_s2;
@@ -34,7 +44,7 @@ fn sloshing_period_matches_linear_theory() {
     let drift = integrals(&sim).volume_m2 / v0 - 1.0;
     let error = period / period_theory - 1.0;
     println!(
-        "sloshing at h = {} m: period {period:.4} s over {n} periods against {period_theory:.4} s \
+        "sloshing at h = {} m, {delta}: period {period:.4} s over {n} periods against {period_theory:.4} s \
          ({:+.2} %); amplitudes at x = {x_gauge} m {:?} mm; damping rate {damping_per_s:+.4} 1/s; \
          max speed {max_speed:.4} m/s; V/V0 − 1 = {drift:+.2e}; {} steps",
         case.particles.spacing_m,

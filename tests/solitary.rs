@@ -40,7 +40,17 @@ fn peak(record: &[(f64, f64)]) -> (f64, f64) {
 
 #[test]
 fn solitary_wave_keeps_its_height_and_celerity() {
-    let case = common::case("solitary.toml", &[]);
+    check("solver.delta=0");
+}
+
+/// The same with the EDT polygons of δ = 0.03 (issue 24).
+#[test]
+fn solitary_wave_with_edt_polygons() {
+    check("solver.delta=0.03");
+}
+
+fn check(delta: &str) {
+    let case = common::case("solitary.toml", &[delta]);
     let wave = case.wavemaker.as_ref().unwrap();
     let (d, height) = (case.water[0].depth_m, wave.height_m);
     let x_paddle = wave.x_m;
@@ -69,7 +79,7 @@ fn solitary_wave_keeps_its_height_and_celerity() {
     let c = (gauges[2] - gauges[0]) / (peaks[2].0 - peaks[0].0);
     let drift = surflab::diagnostics::integrals(&sim).volume_m2 / v0 - 1.0;
     println!(
-        "celerity {c:.3} m/s against sqrt(g (d + H)) = {c_theory:.3} m/s ({:+.1} %); {} steps, {} particles, V/V0 − 1 = {:+.2e} at t = 6.3 s",
+        "{delta}: celerity {c:.3} m/s against sqrt(g (d + H)) = {c_theory:.3} m/s ({:+.1} %); {} steps, {} particles, V/V0 − 1 = {:+.2e} at t = 6.3 s",
         100.0 * (c / c_theory - 1.0),
         sim.steps,
         sim.particles.len(),

@@ -29,7 +29,16 @@ fn still_water_with_the_water_line_between_wall_nodes() {
     );
 }
 
-fn check(label: &str, overrides: &[&str]) {
+/// The EDT with δ = 0.05 on the lattice-seeded tank: every interior square of the lattice is
+/// co-circular, so the mesh is mostly 4-node MFEM polygons (issue 24).
+#[test]
+fn still_water_with_edt_polygons() {
+    let polygons = check("EDT polygons, δ = 0.05", &["solver.delta=0.05"]);
+    assert!(polygons > 300, "only {polygons} polygons at the end");
+}
+
+/// Runs the tank and checks the bars; returns the EDT polygons of the last mesh.
+fn check(label: &str, overrides: &[&str]) -> usize {
     let case = common::case("still_water.toml", overrides);
     let depth = case.water[0].depth_m;
     let g = case.fluid.gravity_m_s2;
@@ -46,10 +55,11 @@ fn check(label: &str, overrides: &[&str]) {
     let bound = 0.005 * (g * depth).sqrt();
     let (p_err, used) = diagnostics::hydrostatic_error(&sim, 0.5 * depth, (0.25, 0.75));
     println!(
-        "still water, {label}: {} steps over {} s; max speed {:.3e} m/s (bound {:.3e} = 0.5 % of sqrt(g d)); \
+        "still water, {label}: {} steps over {} s, {} EDT polygons at the end; max speed {:.3e} m/s (bound {:.3e} = 0.5 % of sqrt(g d)); \
          mid-depth pressure error {:.3} % over {used} particles; volume drift max {:.4} %",
         sim.steps,
         sim.time_s,
+        sim.solver.mesh.polygons.len(),
         max_speed,
         bound,
         100.0 * p_err,
@@ -64,6 +74,7 @@ fn check(label: &str, overrides: &[&str]) {
     assert!(used > 10);
     assert!(p_err < 0.02);
     assert!(drift < 0.001);
+    sim.solver.mesh.polygons.len()
 }
 
 /// The free surface of the projection step grows a 2h ripple out of round-off (about ×10 per

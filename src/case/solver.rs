@@ -45,6 +45,12 @@ pub struct SolverSettings {
     /// they bridge concave stretches of the surface (see `mesh`). Used as min(α_b, α).
     /// Default 1.0.
     pub alpha_boundary: f64,
+    /// Extended Delaunay Tessellation (thesis eq. 2.2): two neighbouring Delaunay triangles
+    /// whose circumcentres are closer than δ times their mean circumradius are merged into one
+    /// polygon element with MFEM shape functions (`mesh::edt`, `fem::polygon`). 0 keeps plain
+    /// Delaunay triangles. Lies in [0, 1]; the thesis's examples use small values (0.01–0.1).
+    /// Default 0.
+    pub delta: f64,
     /// Pressure splitting: 0 (first order) or 1 (incremental, second order). Default 1.
     pub gamma: f64,
     /// Viscous-term implicitness: 0 explicit, ½ Crank–Nicolson, 1 implicit. Default 0.
@@ -123,6 +129,7 @@ impl Default for SolverSettings {
         Self {
             alpha: 1.2,
             alpha_boundary: 1.0,
+            delta: 0.0,
             gamma: 1.0,
             theta: 0.0,
             smagorinsky_cs: 0.12,
@@ -178,6 +185,15 @@ impl SolverSettings {
                 format!(
                     "must be at least 0.75 (a flat surface's right triangles have R = 0.71 h), got {}",
                     s.alpha_boundary
+                ),
+            );
+        }
+        if !(0.0..=1.0).contains(&s.delta) {
+            return err(
+                "solver.delta",
+                format!(
+                    "δ must lie in [0, 1] (0: plain Delaunay triangles; 0.01–0.1 is usual), got {}",
+                    s.delta
                 ),
             );
         }

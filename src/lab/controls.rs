@@ -47,6 +47,8 @@ pub struct Controls {
     pub theory: Option<WaveTheory>,
     pub slope: Option<f64>,
     pub alpha: f64,
+    /// δ of the EDT merge (0: plain Delaunay triangles).
+    pub delta: f64,
     pub spacing_m: f64,
 }
 
@@ -62,6 +64,7 @@ impl Controls {
             theory: w.map(|w| w.theory),
             slope: case.flume.beach.as_ref().map(|b| b.slope),
             alpha: case.solver.alpha,
+            delta: case.solver.delta,
             spacing_m: case.particles.spacing_m,
         }
     }
@@ -70,6 +73,7 @@ impl Controls {
     /// not apply to the preset (`None`) are left alone.
     pub fn apply(&self, case: &mut Case) {
         case.solver.alpha = self.alpha;
+        case.solver.delta = self.delta;
         case.particles.spacing_m = self.spacing_m;
         if let Some(w) = case.wavemaker.as_mut() {
             if let Some(h) = self.height_m {

@@ -217,6 +217,18 @@ impl Panel {
                     .max_decimals(2),
             );
             ui.end_row();
+            ui.label("δ (EDT polygons)");
+            ui.add(
+                egui::DragValue::new(&mut c.delta)
+                    .speed(0.002)
+                    .range(0.0..=1.0)
+                    .max_decimals(3),
+            )
+            .on_hover_text(
+                "Delaunay triangles whose circumcentres lie within δ of their mean radius merge \
+                 into one polygon element (thesis eq. 2.2); 0 keeps triangles",
+            );
+            ui.end_row();
             ui.label("resolution h (m)");
             ui.add(
                 egui::DragValue::new(&mut c.spacing_m)
@@ -334,7 +346,10 @@ impl Panel {
                 s.ui_fps_seen
             ));
         }
-        ui.label(format!("volume V/V₀ = {:.4}", s.volume_ratio));
+        ui.label(format!(
+            "volume V/V₀ = {:.4}; mesh {} triangles, {} EDT polygons",
+            s.volume_ratio, s.triangles, s.polygons
+        ));
         ui.label(format!(
             "observed breaker: {}",
             s.breaker.as_deref().unwrap_or("none yet")

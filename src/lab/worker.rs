@@ -48,6 +48,9 @@ pub struct Status {
     pub steps: u64,
     pub particles: usize,
     pub fluid_particles: usize,
+    /// Kept triangles and the EDT polygons merged from them, at the last step.
+    pub triangles: usize,
+    pub polygons: usize,
     /// Simulated seconds per wall second over the last frames.
     pub real_time_factor: f64,
     /// Mean ms per step over the last frame, overall and per stage.
@@ -617,6 +620,8 @@ impl Worker {
             self.status.steps = sim.steps;
             self.status.particles = sim.particles.len();
             self.status.fluid_particles = sim.particles.fluid_count();
+            self.status.triangles = sim.solver.mesh.triangles.len();
+            self.status.polygons = sim.solver.mesh.polygons.len();
         }
         self.status.real_time_factor = if self.rtf_window.1 > 0.0 {
             self.rtf_window.0 / self.rtf_window.1

@@ -65,6 +65,10 @@ pub enum MeshError {
 pub struct Mesh {
     /// Kept triangles, counter-clockwise, as node indices.
     pub triangles: Vec<[u32; 3]>,
+    /// The EDT polygons of the kept mesh (`solver.delta` > 0; see `edt.rs`).
+    pub polygons: Vec<MeshPolygon>,
+    /// Per kept triangle: the polygon it belongs to, or `u32::MAX` (empty when δ = 0).
+    pub polygon_of_triangle: Vec<u32>,
     /// Edges on the boundary of the kept mesh (free surface and wetted walls), as node pairs.
     pub boundary_edges: Vec<[u32; 2]>,
     /// Per boundary edge: the kept triangle it belongs to (index into `triangles`).
@@ -79,7 +83,21 @@ pub struct Mesh {
     /// `triangles`), for the boundary edges here and the pressure pattern.
     first: Vec<u32>,
     around: Vec<u32>,
+    /// The EDT merge's working arrays and its last polygons, reused from step to step.
+    merger: edt::Merger,
+    merged: Vec<edt::Polygon>,
+    candidate_nodes: Vec<[u32; 3]>,
 }
+
+/// A polygon element of the kept mesh: its boundary loop, counter-clockwise, and the kept
+/// triangles it is made of (indices into [`Mesh::triangles`], ascending).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct MeshPolygon {
+    pub nodes: Vec<u32>,
+    pub triangles: Vec<u32>,
+}
+
+const NO_POLYGON: u32 = u32::MAX;
 
 /// A Delaunay triangle small enough for the α-shape: its nodes counter-clockwise and the
 /// square of its circumradius.
@@ -220,20 +238,41 @@ fn morton_key(x: u16, y: u16) -> u32 {
     spread(x) | (spread(y) << 1)
 }
 
+/// The parameters of the α-shape and the EDT merge.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShapeParams {
+    /// α: a triangle (or polygon) is kept when its circumradius is below α h.
+    pub alpha: f64,
+    /// α_b ≤ α for triangles whose nodes are all on the boundary.
+    pub alpha_boundary: f64,
+    /// δ of the EDT merge (0: plain Delaunay triangles).
+    pub delta: f64,
+    /// The particle spacing h, m.
+    pub spacing_m: f64,
+}
+
 /// Stage 2: the α-shape, the all-wall filter and the free surface, written into `mesh`.
+///
+/// With δ > 0 the candidates are first merged into EDT polygons (`edt.rs`); every triangle of a
+/// polygon is then judged by the polygon's radius, the mean circumradius of its triangles (the
+/// thesis's fig. 2.5), against the same global α h as a triangle, so that the test is
+/// continuous as δ → 0. The other rules (all-wall, paddle, contact line) still judge each
+/// triangle; a polygon stays one element only when all its triangles are kept, otherwise its
+/// kept triangles stay P1 triangles.
 pub fn alpha_shape(
     candidates: &[Candidate],
     particles: &Particles,
-    alpha: f64,
-    alpha_boundary: f64,
-    h: f64,
+    shape: &ShapeParams,
     paddle: Option<&PaddleFace>,
     mesh: &mut Mesh,
 ) {
+    let (alpha, h) = (shape.alpha, shape.spacing_m);
     let n = particles.len();
     let max_r2 = (alpha * h) * (alpha * h);
-    let max_r2_boundary = (alpha_boundary.min(alpha) * h).powi(2);
+    let max_r2_boundary = (shape.alpha_boundary.min(alpha) * h).powi(2);
     mesh.triangles.clear();
+    mesh.polygons.clear();
+    mesh.polygon_of_triangle.clear();
     mesh.boundary_edges.clear();
     mesh.boundary_edge_triangle.clear();
     std::mem::swap(&mut mesh.free_surface, &mut mesh.previous_free_surface);
@@ -242,6 +281,47 @@ pub fn alpha_shape(
     mesh.free_surface.resize(n, false);
     mesh.in_mesh.clear();
     mesh.in_mesh.resize(n, false);
+
+    // EDT: the polygons of the candidates, and each candidate's radius for the α test.
+    let mut polygons = std::mem::take(&mut mesh.merged);
+    polygons.clear();
+    if shape.delta > 0.0 {
+        mesh.candidate_nodes.clear();
+        mesh.candidate_nodes
+            .extend(candidates.iter().map(|c| c.nodes));
+        mesh.merger.merge_into(
+            &particles.position,
+            &mesh.candidate_nodes,
+            shape.delta,
+            &mut polygons,
+        );
+    }
+    let mut polygon_of = vec![
+        NO_POLYGON;
+        if polygons.is_empty() {
+            0
+        } else {
+            candidates.len()
+        }
+    ];
+    for (p, poly) in polygons.iter().enumerate() {
+        for &k in &poly.triangles {
+            polygon_of[k as usize] = p as u32;
+        }
+    }
+    let r2_of = |k: usize| match polygon_of.get(k) {
+        Some(&p) if p != NO_POLYGON => polygons[p as usize].radius_m.powi(2),
+        _ => candidates[k].r2,
+    };
+    // Per candidate: its index among the kept triangles, if kept.
+    let mut kept_as = vec![
+        NO_POLYGON;
+        if polygons.is_empty() {
+            0
+        } else {
+            candidates.len()
+        }
+    ];
 
     let is_wall = |i: u32| particles.kind[i as usize] == NodeKind::Wall;
     // A wall node with a fluid node in one of its candidate triangles is wetted.
@@ -253,7 +333,8 @@ pub fn alpha_shape(
             }
         }
     }
-    for c in candidates {
+    for (k, c) in candidates.iter().enumerate() {
+        let r2 = r2_of(k);
         let [a, b, cc] = c.nodes;
         if is_wall(a) && is_wall(b) && is_wall(cc) && !c.nodes.iter().any(|&i| wetted[i as usize]) {
             continue;
@@ -270,21 +351,52 @@ pub fn alpha_shape(
                 continue;
             }
         }
-        if c.r2 >= max_r2 {
+        if r2 >= max_r2 {
             continue;
         }
         if air_at_contact_line(c.nodes, particles, &mesh.previous_free_surface) {
             continue;
         }
         let on_boundary = |i: u32| is_wall(i) || mesh.previous_free_surface[i as usize];
-        if c.nodes.iter().all(|&i| on_boundary(i)) && c.r2 >= max_r2_boundary {
+        if c.nodes.iter().all(|&i| on_boundary(i)) && r2 >= max_r2_boundary {
             continue;
+        }
+        if let Some(slot) = kept_as.get_mut(k) {
+            *slot = mesh.triangles.len() as u32;
         }
         mesh.triangles.push(c.nodes);
         for v in c.nodes {
             mesh.in_mesh[v as usize] = true;
         }
     }
+
+    // The polygons whose triangles were all kept.
+    if !polygons.is_empty() {
+        mesh.polygon_of_triangle
+            .resize(mesh.triangles.len(), NO_POLYGON);
+        for poly in &polygons {
+            if poly
+                .triangles
+                .iter()
+                .any(|&k| kept_as[k as usize] == NO_POLYGON)
+            {
+                continue;
+            }
+            let triangles: Vec<u32> = poly
+                .triangles
+                .iter()
+                .map(|&k| kept_as[k as usize])
+                .collect();
+            for &t in &triangles {
+                mesh.polygon_of_triangle[t as usize] = mesh.polygons.len() as u32;
+            }
+            mesh.polygons.push(MeshPolygon {
+                nodes: poly.nodes.clone(),
+                triangles,
+            });
+        }
+    }
+    mesh.merged = polygons;
 
     // Boundary edges: an edge a → b of a kept triangle with no kept triangle holding b → a.
     mesh.index_triangles(n);
@@ -406,6 +518,8 @@ impl Mesh {
         keep(&mut self.free_surface);
         keep(&mut self.in_mesh);
         self.triangles.clear();
+        self.polygons.clear();
+        self.polygon_of_triangle.clear();
         self.boundary_edges.clear();
         self.boundary_edge_triangle.clear();
         self.first.clear();
@@ -484,112 +598,4 @@ impl Mesh {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn square_block(n: usize, h: f64) -> Particles {
-        let mut walls = Vec::new();
-        let mut fluid = Vec::new();
-        for j in 0..=n {
-            for i in 0..=n {
-                let p = Vector2::new(i as f64 * h, j as f64 * h);
-                if j == 0 || i == 0 || i == n {
-                    walls.push(p);
-                } else {
-                    fluid.push(p);
-                }
-            }
-        }
-        Particles::new(&walls, &fluid)
-    }
-
-    #[test]
-    fn a_block_of_water_meshes_to_its_area_with_the_top_free() {
-        let h = 0.1;
-        let p = square_block(10, h);
-        let tri = triangulate(&p, 1.3 * h, false).unwrap();
-        let mut mesh = Mesh::default();
-        alpha_shape(&tri, &p, 1.2, 1.0, h, None, &mut mesh);
-        assert!((mesh.area(&p.position) - 1.0).abs() < 1e-12);
-        // The top row is free surface, its two wall nodes (contact points) included; nothing
-        // else is.
-        for i in 0..p.len() {
-            let top = (p.position[i].y - 1.0).abs() < 1e-9;
-            assert_eq!(mesh.free_surface[i], top, "node {i}");
-        }
-        let (_, count) = mesh.components(p.len());
-        assert_eq!(count, 1);
-    }
-
-    /// The triangles as sorted node triples, in sorted order.
-    fn triples(c: &[Candidate]) -> Vec<[u32; 3]> {
-        let mut t: Vec<[u32; 3]> = c
-            .iter()
-            .map(|c| {
-                let mut n = c.nodes;
-                n.sort_unstable();
-                n
-            })
-            .collect();
-        t.sort_unstable();
-        t
-    }
-
-    #[test]
-    fn the_two_pieces_give_the_small_triangles_of_the_whole_cloud() {
-        let h = 0.01;
-        for jitter in [0.0, 0.3] {
-            // A 90 × 30 lattice (exactly co-circular cells when not jittered) with a
-            // deterministic jitter of up to ±0.15 h.
-            let mut state = 12345u64;
-            let mut next = || {
-                state = state
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-            };
-            let fluid: Vec<Vector2<f64>> = (0..90 * 30)
-                .map(|k| {
-                    let (i, j) = ((k % 90) as f64, (k / 90) as f64);
-                    Vector2::new((i + jitter * next()) * h, (j + jitter * next()) * h)
-                })
-                .collect();
-            let p = Particles::new(&[], &fluid);
-            let max_r = 1.3 * h;
-            let split = triangulate(&p, max_r, true).unwrap();
-            let serial = triangulate(&p, max_r, false).unwrap();
-            let whole =
-                small_triangles(&p.position, (0..p.len() as u32).collect(), max_r, |_| true)
-                    .unwrap();
-            assert!(whole.len() > 2 * 89 * 29 - 10, "{} triangles", whole.len());
-            assert_eq!(triples(&split), triples(&whole), "jitter {jitter}");
-            assert_eq!(triples(&serial), triples(&whole), "jitter {jitter}");
-        }
-    }
-
-    #[test]
-    fn morton_keys_interleave_the_bits() {
-        assert_eq!(morton_key(0, 0), 0);
-        assert_eq!(morton_key(1, 0), 1);
-        assert_eq!(morton_key(0, 1), 2);
-        assert_eq!(morton_key(3, 3), 15);
-        assert_eq!(morton_key(u16::MAX, 0), 0x5555_5555);
-        assert_eq!(morton_key(u16::MAX, u16::MAX), u32::MAX);
-    }
-
-    #[test]
-    fn a_far_particle_is_isolated() {
-        let h = 0.1;
-        let mut p = square_block(5, h);
-        p.push_fluid(
-            Vector2::new(0.25, 2.0),
-            Vector2::zeros(),
-            0.0,
-            Vector2::zeros(),
-        );
-        let tri = triangulate(&p, 1.3 * h, false).unwrap();
-        let mut mesh = Mesh::default();
-        alpha_shape(&tri, &p, 1.3, 1.0, h, None, &mut mesh);
-        assert!(!mesh.in_mesh[p.len() - 1]);
-    }
-}
+mod tests;

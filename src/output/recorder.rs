@@ -187,6 +187,7 @@ impl FrameRecorder {
             triangles: self
                 .with_mesh
                 .then_some(sim.solver.mesh.triangles.as_slice()),
+            polygons: &sim.solver.mesh.polygons,
             scalars: &named,
         })
     }

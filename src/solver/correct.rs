@@ -10,6 +10,7 @@
 //! be halved can be redone.
 
 use super::Solver;
+use super::element_set::polygon_boundary;
 use crate::particles::Particles;
 use nalgebra::Vector2;
 
@@ -21,19 +22,38 @@ impl Solver {
         let mut impulse = vec![Vector2::zeros(); n];
         self.pi_new.clear();
         self.pi_new.resize(n, Vector2::zeros());
-        for (k, t) in self.mesh.triangles.iter().enumerate() {
-            let e = &self.elems[k];
-            let idx = t.map(|i| i as usize);
-            let dp_mean: f64 = idx
-                .iter()
-                .map(|&i| self.p_new[i] - gamma * p_old[i])
-                .sum::<f64>()
-                / 3.0;
-            let grad_p: Vector2<f64> = (0..3).map(|a| e.grad[a] * self.p_new[idx[a]]).sum();
-            let w = self.tau_e[k] * e.area / 3.0;
-            for (a, &i) in idx.iter().enumerate() {
-                impulse[i] += e.area * dp_mean * e.grad[a];
-                self.pi_new[i] -= w * grad_p;
+        let p_new = &self.p_new;
+        let dp = |i: usize| p_new[i] - gamma * p_old[i];
+        for e in 0..self.cells.len() {
+            let tau = self.tau_e[e];
+            let polygon = self.cells.nodes(e).len() > 3;
+            for cell in self.cells.cells(e) {
+                let grad_p = cell.gradient(|i| p_new[i]);
+                if polygon {
+                    // −∫_cell N_a ∇(Δp), the boundary term below (see `element_set.rs`).
+                    let grad_dp = cell.gradient(dp);
+                    for a in 0..cell.nodes.len() {
+                        let i = cell.node(a);
+                        impulse[i] -= cell.integral(a, 1.0) * grad_dp;
+                        self.pi_new[i] -= cell.integral(a, tau) * grad_p;
+                    }
+                    continue;
+                }
+                let dp_mean = cell.mean(dp);
+                for (a, &b) in cell.grad.iter().enumerate() {
+                    let i = cell.node(a);
+                    impulse[i] += cell.area * dp_mean * b;
+                    self.pi_new[i] -= cell.integral(a, tau) * grad_p;
+                }
+            }
+            if polygon {
+                let nodes = self.cells.nodes(e);
+                for (a, b, nu) in polygon_boundary(nodes, &particles.position) {
+                    let (ia, ib) = (nodes[a] as usize, nodes[b] as usize);
+                    let (pa, pb) = (dp(ia), dp(ib));
+                    impulse[ia] += nu * (pa / 3.0 + pb / 6.0);
+                    impulse[ib] += nu * (pa / 6.0 + pb / 3.0);
+                }
             }
         }
         let (p_new, p_old) = (&self.p_new, &self.p_old);

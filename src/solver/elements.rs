@@ -1,7 +1,9 @@
-//! Stage `elements`: per kept triangle its P1 geometry, the effective viscosity
+//! Stage `elements`: per element (`element_set.rs`) its cells' geometry (P1 on a triangle, MFEM
+//! on a polygon), the effective viscosity
 //! μ_e = μ + ρ(C_s h_e)²|S(uⁿ)| (Smagorinsky, thesis eqs. 1.20–1.21, lagged so the step stays
-//! linear) and the stabilisation τ_e; per node the lumped mass m_i = ρ Σ A_e/3 (thesis eq. 2.22)
-//! and the τ-weighted mass Σ τ_e A_e/3 used by the pressure-gradient projection.
+//! linear) and the stabilisation τ_e; per node the lumped mass m_i = ρ Σ_e ∫_e N_i (A_e/3 on a
+//! triangle, thesis eq. 2.22) and the τ-weighted mass Σ_e τ_e ∫_e N_i used by the
+//! pressure-gradient projection.
 //!
 //! It also sets the previous pressure the step splits against, pⁿ with this step's Dirichlet
 //! values (p = 0 on the current free surface and isolated nodes, the hydrostatic value at wall
@@ -11,6 +13,7 @@
 
 use super::Solver;
 use crate::fem;
+use crate::mesh::edt::MAX_POLYGON_NODES;
 use crate::particles::Particles;
 
 impl Solver {
@@ -20,7 +23,6 @@ impl Solver {
         let n = particles.len();
         let x = &particles.position;
         let u = &particles.velocity;
-        self.elems.clear();
         self.mu_e.clear();
         self.tau_e.clear();
         self.mass.clear();
@@ -37,28 +39,70 @@ impl Solver {
             }
         }));
         self.p_old = p_old;
-        for t in &self.mesh.triangles {
-            let [a, b, c] = t.map(|i| i as usize);
-            let mut e = fem::p1(x[a], x[b], x[c]);
-            // Kept triangles are counter-clockwise; on the moved geometry of the second pass
-            // (`geometry_theta`) a sliver may have turned over, and a negative area would make
-            // the pressure matrix indefinite. Its gradients are right either way.
-            e.area = e.area.abs();
-            let h_e = fem::element_size(e.area);
-            let g = fem::velocity_gradient(&e, [u[a], u[b], u[c]]);
-            let (_, s_mag) = fem::strain_rate(&g);
-            let mu_e =
-                fem::smagorinsky_viscosity(p.viscosity_pa_s, rho, p.smagorinsky_cs, h_e, s_mag);
-            let speed = ((u[a] + u[b] + u[c]) / 3.0).norm();
-            let tau = fem::tau(p.tau, rho, mu_e, h_e, dt, speed);
-            let third = e.area / 3.0;
-            for i in [a, b, c] {
-                self.mass[i] += rho * third;
-                self.tau_mass[i] += tau * third;
-            }
-            self.elems.push(e);
+        let mut cells = std::mem::take(&mut self.cells);
+        let mut polygon = std::mem::take(&mut self.polygon_scratch);
+        cells.clear_geometry();
+        for e in 0..cells.len() {
+            let nodes = cells.nodes(e);
+            let (mu_e, tau) = if let &[a, b, c] = nodes {
+                let [a, b, c] = [a, b, c].map(|i| i as usize);
+                let mut e = fem::p1(x[a], x[b], x[c]);
+                // Kept triangles are counter-clockwise; on the moved geometry of the second
+                // pass (`geometry_theta`) a sliver may have turned over, and a negative area
+                // would make the pressure matrix indefinite. Its gradients are right either way.
+                e.area = e.area.abs();
+                let h_e = fem::element_size(e.area);
+                let g = fem::velocity_gradient(&e, [u[a], u[b], u[c]]);
+                let (_, s_mag) = fem::strain_rate(&g);
+                let mu_e =
+                    fem::smagorinsky_viscosity(p.viscosity_pa_s, rho, p.smagorinsky_cs, h_e, s_mag);
+                let speed = ((u[a] + u[b] + u[c]) / 3.0).norm();
+                let tau = fem::tau(p.tau, rho, mu_e, h_e, dt, speed);
+                let third = e.area / 3.0;
+                for i in [a, b, c] {
+                    self.mass[i] += rho * third;
+                    self.tau_mass[i] += tau * third;
+                }
+                cells.push_triangle(&e);
+                (mu_e, tau)
+            } else {
+                // A polygon: its size is that of its Delaunay triangles (n − 2 of them), its
+                // strain rate the area mean over its cells, which is exact (Σ_c A_c ∇N_i,c is
+                // ∮ N_i n over the polygon).
+                let n = nodes.len();
+                let mut pts = [nalgebra::Vector2::zeros(); MAX_POLYGON_NODES];
+                for (p, &i) in pts.iter_mut().zip(nodes) {
+                    *p = x[i as usize];
+                }
+                let poly = &mut polygon;
+                fem::polygon::polygon_element_into(&pts[..n], poly);
+                let area: f64 = poly.cell_area.iter().sum();
+                let h_e = fem::element_size(area / (n - 2) as f64);
+                let mut g = nalgebra::Matrix2::zeros();
+                let mut mean_u = nalgebra::Vector2::zeros();
+                for (k, &i) in nodes.iter().enumerate() {
+                    let u_i = u[i as usize];
+                    mean_u += u_i;
+                    for (c, &a_c) in poly.cell_area.iter().enumerate() {
+                        g += u_i * poly.cell_grad[c * n + k].transpose() * a_c;
+                    }
+                }
+                let (_, s_mag) = fem::strain_rate(&(g / area));
+                let mu_e =
+                    fem::smagorinsky_viscosity(p.viscosity_pa_s, rho, p.smagorinsky_cs, h_e, s_mag);
+                let speed = (mean_u / n as f64).norm();
+                let tau = fem::tau(p.tau, rho, mu_e, h_e, dt, speed);
+                for (k, &i) in nodes.iter().enumerate() {
+                    self.mass[i as usize] += rho * poly.node_weight[k];
+                    self.tau_mass[i as usize] += tau * poly.node_weight[k];
+                }
+                cells.push_polygon(poly);
+                (mu_e, tau)
+            };
             self.mu_e.push(mu_e);
             self.tau_e.push(tau);
         }
+        self.cells = cells;
+        self.polygon_scratch = polygon;
     }
 }

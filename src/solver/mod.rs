@@ -7,6 +7,7 @@
 
 mod cg;
 mod correct;
+mod element_set;
 mod elements;
 mod filter;
 mod motion;
@@ -23,7 +24,6 @@ use crate::case::{
     Case, DtPolicy, Fluid, ParticleSettings, PressureSolver, SolverSettings, TauFormula,
     TimeSettings,
 };
-use crate::fem::P1;
 use crate::mesh::{Mesh, MeshError};
 use nalgebra::Vector2;
 
@@ -39,6 +39,8 @@ pub struct SolverParams {
     pub spacing_m: f64,
     pub alpha: f64,
     pub alpha_boundary: f64,
+    /// EDT merge parameter δ (0: plain Delaunay triangles).
+    pub delta: f64,
     pub gamma: f64,
     pub theta: f64,
     pub smagorinsky_cs: f64,
@@ -88,6 +90,16 @@ impl SolverParams {
         self.alpha * self.spacing_m
     }
 
+    /// The α-shape's and the EDT's parameters.
+    pub fn shape(&self) -> crate::mesh::ShapeParams {
+        crate::mesh::ShapeParams {
+            alpha: self.alpha,
+            alpha_boundary: self.alpha_boundary,
+            delta: self.delta,
+            spacing_m: self.spacing_m,
+        }
+    }
+
     pub fn from_case(case: &Case) -> SolverParams {
         let mut p = Self::resolve(&case.fluid, &case.particles, &case.solver, &case.time);
         p.speed_limit_m_s = 10.0 * (2.0 * case.fluid.gravity_m_s2 * case.flume.height_m).sqrt();
@@ -115,6 +127,7 @@ impl SolverParams {
             spacing_m: particles.spacing_m,
             alpha: s.alpha,
             alpha_boundary: s.alpha_boundary,
+            delta: s.delta,
             gamma: s.gamma,
             theta: s.theta,
             smagorinsky_cs: s.smagorinsky_cs,
@@ -256,6 +269,8 @@ pub struct StepReport {
     pub pressure_unknowns: usize,
     pub pressure_iterations: usize,
     pub kept_triangles: usize,
+    /// EDT polygon elements among them (0 with δ = 0).
+    pub polygons: usize,
     pub free_surface_nodes: usize,
     pub isolated_particles: usize,
     /// Fluid particles put back by the wall guard.
@@ -308,8 +323,11 @@ pub struct Solver {
     pub params: SolverParams,
     /// The kept mesh of the last step (for observers: gauges, boundary, volume).
     pub mesh: Mesh,
-    /// Per kept triangle.
-    elems: Vec<P1>,
+    /// The elements (triangles and EDT polygons) and their integration cells.
+    cells: element_set::ElementSet,
+    /// The element of the polygon being built (its vectors reused).
+    polygon_scratch: crate::fem::polygon::PolygonElement,
+    /// Per element.
     mu_e: Vec<f64>,
     tau_e: Vec<f64>,
     /// Per node.
@@ -389,9 +407,7 @@ impl Solver {
         crate::mesh::alpha_shape(
             &tri,
             particles,
-            p.alpha,
-            p.alpha_boundary,
-            p.spacing_m,
+            &p.shape(),
             flume.paddle_now.as_ref(),
             &mut self.mesh,
         );

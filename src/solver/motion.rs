@@ -24,8 +24,8 @@ impl Solver {
         let x = &particles.position;
         let u = &self.u_new;
         let min_area = 0.01 * self.params.spacing_m * self.params.spacing_m;
-        self.mesh.triangles.iter().zip(&self.elems).any(|(t, e)| {
-            if e.area < min_area {
+        self.mesh.triangles.iter().any(|t| {
+            if crate::fem::triangle_area(x, t).abs() < min_area {
                 return false;
             }
             let [a, b, c] = t.map(|i| {

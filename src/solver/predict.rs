@@ -10,6 +10,7 @@
 //! slip wall nodes keep the component of ũ along the wall (they do not move; their velocity
 //! lets the water next to them slide); isolated particles fly ballistically, ũ = uⁿ + Δt g.
 
+use super::element_set::polygon_boundary;
 use super::{Solver, cg};
 use crate::fem;
 use crate::particles::Particles;
@@ -23,16 +24,34 @@ impl Solver {
         // Explicit forces: −(1−θ)K uⁿ + γ Dᵀpⁿ.
         let mut force = vec![Vector2::zeros(); n];
         let explicit_visc = 1.0 - p.theta;
-        for (k, t) in self.mesh.triangles.iter().enumerate() {
-            let e = &self.elems[k];
-            let idx = t.map(|i| i as usize);
-            let g = fem::velocity_gradient(e, idx.map(|i| x_u[i]));
-            let (s, _) = fem::strain_rate(&g);
-            let visc = (-2.0 * explicit_visc * self.mu_e[k] * e.area) * s;
-            let p_mean = (pres[idx[0]] + pres[idx[1]] + pres[idx[2]]) / 3.0;
-            let press = p.gamma * e.area * p_mean;
-            for (a, &i) in idx.iter().enumerate() {
-                force[i] += visc * e.grad[a] + press * e.grad[a];
+        for e in 0..self.cells.len() {
+            let polygon = self.cells.nodes(e).len() > 3;
+            for cell in self.cells.cells(e) {
+                let g = cell.velocity_gradient(|i| x_u[i]);
+                let (s, _) = fem::strain_rate(&g);
+                let visc = (-2.0 * explicit_visc * self.mu_e[e] * cell.area) * s;
+                if polygon {
+                    // −∫_cell N_a ∇p (the boundary term follows; see `element_set.rs`).
+                    let grad_p = cell.gradient(|i| pres[i]);
+                    for (a, &b) in cell.grad.iter().enumerate() {
+                        force[cell.node(a)] += visc * b - cell.integral(a, p.gamma) * grad_p;
+                    }
+                    continue;
+                }
+                let p_mean = cell.mean(|i| pres[i]);
+                let press = p.gamma * cell.area * p_mean;
+                for (a, &b) in cell.grad.iter().enumerate() {
+                    force[cell.node(a)] += visc * b + press * b;
+                }
+            }
+            if polygon {
+                let nodes = self.cells.nodes(e);
+                for (a, b, nu) in polygon_boundary(nodes, &particles.position) {
+                    let (ia, ib) = (nodes[a] as usize, nodes[b] as usize);
+                    let (pa, pb) = (p.gamma * pres[ia], p.gamma * pres[ib]);
+                    force[ia] += nu * (pa / 3.0 + pb / 6.0);
+                    force[ib] += nu * (pa / 6.0 + pb / 3.0);
+                }
             }
         }
         self.cancel_contact_traction(particles, |i| p.gamma * pres[i], &mut force);
@@ -62,20 +81,21 @@ impl Solver {
         let free: Vec<bool> = (0..n)
             .map(|i| particles.is_fluid(i) && self.mass[i] > 0.0)
             .collect();
-        let (tris, elems, mu_e, mass) = (&self.mesh.triangles, &self.elems, &self.mu_e, &self.mass);
+        let (cells, mu_e, mass) = (&self.cells, &self.mu_e, &self.mass);
         // K v (flattened 2n vector), zero on Dirichlet rows.
         let k_apply = |v: &[f64], out: &mut [f64]| {
             out.iter_mut().for_each(|o| *o = 0.0);
-            for (k, t) in tris.iter().enumerate() {
-                let e = &elems[k];
-                let idx = t.map(|i| i as usize);
-                let vel = idx.map(|i| Vector2::new(v[2 * i], v[2 * i + 1]));
-                let (s, _) = fem::strain_rate(&fem::velocity_gradient(e, vel));
-                let f = (2.0 * mu_e[k] * e.area) * s;
-                for (a, &i) in idx.iter().enumerate() {
-                    let fi = f * e.grad[a];
-                    out[2 * i] += fi.x;
-                    out[2 * i + 1] += fi.y;
+            for e in 0..cells.len() {
+                for cell in cells.cells(e) {
+                    let vel = |i: usize| Vector2::new(v[2 * i], v[2 * i + 1]);
+                    let (s, _) = fem::strain_rate(&cell.velocity_gradient(vel));
+                    let f = (2.0 * mu_e[e] * cell.area) * s;
+                    for (a, &b) in cell.grad.iter().enumerate() {
+                        let fi = f * b;
+                        let i = cell.node(a);
+                        out[2 * i] += fi.x;
+                        out[2 * i + 1] += fi.y;
+                    }
                 }
             }
         };
@@ -84,13 +104,13 @@ impl Solver {
         k_apply(&u_flat, &mut ku);
         let mut diag_inv = vec![0.0; 2 * n];
         let mut kdiag = vec![0.0; 2 * n];
-        for (k, t) in tris.iter().enumerate() {
-            let e = &elems[k];
-            for (a, &i) in t.iter().enumerate() {
-                let b = e.grad[a];
-                let i = i as usize;
-                kdiag[2 * i] += mu_e[k] * e.area * (b.norm_squared() + b.x * b.x);
-                kdiag[2 * i + 1] += mu_e[k] * e.area * (b.norm_squared() + b.y * b.y);
+        for e in 0..cells.len() {
+            for cell in cells.cells(e) {
+                for (a, &b) in cell.grad.iter().enumerate() {
+                    let i = cell.node(a);
+                    kdiag[2 * i] += mu_e[e] * cell.area * (b.norm_squared() + b.x * b.x);
+                    kdiag[2 * i + 1] += mu_e[e] * cell.area * (b.norm_squared() + b.y * b.y);
+                }
             }
         }
         let mut rhs = vec![0.0; 2 * n];

@@ -36,10 +36,9 @@
 //! thread, which works while this one computes the element properties, the predictor and the
 //! matrix values.
 
+use super::element_set::{ElementSet, polygon_boundary};
 use super::{Solver, StepError};
 use crate::case::PressureSolver;
-use crate::fem;
-use crate::mesh::Mesh;
 use crate::particles::Particles;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::SupernodalThreshold;
@@ -71,9 +70,11 @@ pub struct PressureSystem {
     symbolic: Option<Arc<SymbolicCholesky<usize>>>,
     /// The values of the Cholesky factor (reused from step to step).
     factor: Vec<f64>,
-    /// Per kept triangle, the index in `val` of its entry (a, b) at `3 a + b` (local node
-    /// numbers), `u32::MAX` where a or b has a prescribed pressure.
-    slots: Vec<[u32; 9]>,
+    /// Per element e of n nodes, the index in `val` of its entry (a, b) at
+    /// `slot_start[e] + n a + b` (local node numbers), `u32::MAX` where a or b has a
+    /// prescribed pressure.
+    slots: Vec<u32>,
+    slot_start: Vec<usize>,
     /// Scratch of `build_pattern`: the last row that listed each column and the place of that
     /// column in it.
     last_row_of: Vec<u32>,
@@ -116,30 +117,35 @@ impl PressureSystem {
         self.node_of_row.len()
     }
 
-    /// The pattern of the node graph of the mesh's kept triangles restricted to unknown nodes:
-    /// each row takes the distinct unknowns of the triangles around its node (a marker per
-    /// column, no sort of duplicates) and sorts them.
-    fn build_pattern(&mut self, mesh: &Mesh) {
+    /// The pattern of the node graph of the elements restricted to unknown nodes: each row
+    /// takes the distinct unknowns of the elements around its node (a marker per column, no
+    /// sort of duplicates) and sorts them.
+    fn build_pattern(&mut self, elements: &ElementSet) {
         let n = self.unknowns();
-        let triangles = &mesh.triangles;
         let row_of_node = &self.row_of_node;
         // `last_row_of[c]` marks column c as listed in row r; `slot_of[c]` is then its place.
         let (last_row_of, slot_of) = (&mut self.last_row_of, &mut self.slot_of);
         last_row_of.clear();
         last_row_of.resize(n, NONE);
         slot_of.resize(n, 0);
-        let slots = &mut self.slots;
+        let (slots, slot_start) = (&mut self.slots, &mut self.slot_start);
+        slot_start.clear();
+        slot_start.push(0);
+        for e in 0..elements.len() {
+            let k = elements.nodes(e).len();
+            slot_start.push(slot_start[e] + k * k);
+        }
         slots.clear();
-        slots.resize(triangles.len(), [NONE; 9]);
+        slots.resize(slot_start[elements.len()], NONE);
         self.row_ptr.clear();
         self.row_ptr.push(0);
         self.col.clear();
         for r in 0..n {
             let row_start = self.col.len();
             let node = self.node_of_row[r];
-            let row_tris = mesh.triangles_around(node as usize);
-            for &k in row_tris {
-                for &b in &triangles[k as usize] {
+            let row_elements = elements.around(node as usize);
+            for &e in row_elements {
+                for &b in elements.nodes(e as usize) {
                     let rb = row_of_node[b as usize];
                     if rb != NONE && last_row_of[rb as usize] != r as u32 {
                         last_row_of[rb as usize] = r as u32;
@@ -151,14 +157,15 @@ impl PressureSystem {
             for (s, &c) in self.col[row_start..].iter().enumerate() {
                 slot_of[c] = (row_start + s) as u32;
             }
-            for &k in row_tris {
-                let t = &triangles[k as usize];
+            for &e in row_elements {
+                let t = elements.nodes(e as usize);
                 let a = t.iter().position(|&i| i == node);
-                let a = a.expect("a triangle around a node has it as a vertex");
+                let a = a.expect("an element around a node has it as a vertex");
+                let base = slot_start[e as usize] + t.len() * a;
                 for (b, &j) in t.iter().enumerate() {
                     let rb = row_of_node[j as usize];
                     if rb != NONE {
-                        slots[k as usize][3 * a + b] = slot_of[rb as usize];
+                        slots[base + b] = slot_of[rb as usize];
                     }
                 }
             }
@@ -307,7 +314,7 @@ impl Solver {
         pin_sealed_components(&self.mesh, particles, &mut dirichlet);
         self.dirichlet = dirichlet;
         self.contact_pressure(particles);
-        let mesh = &self.mesh;
+        self.cells.set_topology(&self.mesh, n);
 
         let sys = &mut self.pressure;
         sys.row_of_node.clear();
@@ -322,7 +329,7 @@ impl Solver {
                 sys.position.push([x.x, x.y]);
             }
         }
-        sys.build_pattern(mesh);
+        sys.build_pattern(&self.cells);
         sys.symbolic = None;
         self.symbolic_job = None;
         let m = sys.unknowns();
@@ -345,7 +352,6 @@ impl Solver {
         let rho = self.params.density_kg_m3;
         let gamma = self.params.gamma;
         let area_dt = if self.params.area_correction { dt } else { 0.0 };
-        let mesh = &self.mesh;
         let sys = &mut self.pressure;
         let m = sys.unknowns();
         sys.val.iter_mut().for_each(|v| *v = 0.0);
@@ -365,40 +371,67 @@ impl Solver {
             &particles.pressure_gradient_projection,
             &self.u_tilde,
         );
-        for (k, t) in mesh.triangles.iter().enumerate() {
-            let e = &self.elems[k];
-            let idx = t.map(|i| i as usize);
-            let tau = self.tau_e[k];
-            let c = (dt / rho + tau) * e.area;
-            let grad_u = fem::velocity_gradient(e, idx.map(|i| u_t[i]));
-            // Moving the nodes by Δt u changes the area by Δt A ∇·u + Δt² A det ∇u; with
-            // the correction, the equation asks for the divergence that cancels both.
-            // Not where a wall node is a vertex: there ũ jumps from the fluid's velocity to the
-            // wall's, and its det ∇ũ is no measure of the straining (at the flap's water line
-            // the correction drove the run to 48 m/s by 13.3 s at Δt = 9.1 ms).
-            let fluid_only = idx.iter().all(|&i| particles.is_fluid(i));
-            let div_u = grad_u.trace()
-                + if fluid_only {
-                    area_dt * grad_u.determinant()
-                } else {
-                    0.0
-                };
-            let grad_p: Vector2<f64> = (0..3).map(|a| e.grad[a] * p_old[idx[a]]).sum();
-            let pi_mean = (pi_old[idx[0]] + pi_old[idx[1]] + pi_old[idx[2]]) / 3.0;
-            let flux = gamma * (dt / rho) * grad_p - tau * pi_mean;
-            for a in 0..3 {
-                let ra = sys.row_of_node[idx[a]];
-                if ra == NONE {
-                    continue;
+        for e in 0..self.cells.len() {
+            let tau = self.tau_e[e];
+            let slots = &sys.slots[sys.slot_start[e]..sys.slot_start[e + 1]];
+            let polygon = self.cells.nodes(e).len() > 3;
+            if polygon {
+                let nodes = self.cells.nodes(e);
+                for (a, b, nu) in polygon_boundary(nodes, &particles.position) {
+                    let (ia, ib) = (nodes[a] as usize, nodes[b] as usize);
+                    let (ua, ub) = (nu.dot(&u_t[ia]), nu.dot(&u_t[ib]));
+                    for (i, flux) in [(ia, ua / 3.0 + ub / 6.0), (ib, ua / 6.0 + ub / 3.0)] {
+                        let r = sys.row_of_node[i];
+                        if r != NONE {
+                            sys.rhs[r as usize] -= flux;
+                        }
+                    }
                 }
-                let ra = ra as usize;
-                sys.rhs[ra] +=
-                    e.area / 3.0 * (target[idx[a]] - div_u) + e.area * e.grad[a].dot(&flux);
-                for b in 0..3 {
-                    let kab = c * e.grad[a].dot(&e.grad[b]);
-                    match sys.slots[k][3 * a + b] {
-                        NONE => sys.rhs[ra] -= kab * p_fixed[idx[b]],
-                        slot => sys.val[slot as usize] += kab,
+            }
+            for cell in self.cells.cells(e) {
+                let c = (dt / rho + tau) * cell.area;
+                let grad_u = cell.velocity_gradient(|i| u_t[i]);
+                // Moving the nodes by Δt u changes the area by Δt A ∇·u + Δt² A det ∇u; with
+                // the correction, the equation asks for the divergence that cancels both.
+                // Not where a wall node is a vertex: there ũ jumps from the fluid's velocity to
+                // the wall's, and its det ∇ũ is no measure of the straining (at the flap's water
+                // line the correction drove the run to 48 m/s by 13.3 s at Δt = 9.1 ms).
+                let fluid_only = cell.nodes.iter().all(|&i| particles.is_fluid(i as usize));
+                let div_u = grad_u.trace()
+                    + if fluid_only {
+                        area_dt * grad_u.determinant()
+                    } else {
+                        0.0
+                    };
+                let grad_p = cell.gradient(|i| p_old[i]);
+                let pi_mean = cell.mean_vector(|i| pi_old[i]);
+                let flux = gamma * (dt / rho) * grad_p - tau * pi_mean;
+                let k = cell.nodes.len();
+                // On a polygon −∫ N_a ∇·ũ is −∮ N_a ũ·n (below) + A_c b_a·ū_c (see
+                // `element_set.rs`); the area correction stays in the strong form.
+                let (div_strong, u_mean) = if polygon {
+                    (div_u - grad_u.trace(), cell.mean_vector(|i| u_t[i]))
+                } else {
+                    (div_u, Vector2::zeros())
+                };
+                for a in 0..k {
+                    let ia = cell.node(a);
+                    let ra = sys.row_of_node[ia];
+                    if ra == NONE {
+                        continue;
+                    }
+                    let ra = ra as usize;
+                    sys.rhs[ra] += cell.integral(a, 1.0) * (target[ia] - div_strong)
+                        + cell.area * cell.grad[a].dot(&flux);
+                    if polygon {
+                        sys.rhs[ra] += cell.area * cell.grad[a].dot(&u_mean);
+                    }
+                    for b in 0..k {
+                        let kab = c * cell.grad[a].dot(&cell.grad[b]);
+                        match slots[k * a + b] {
+                            NONE => sys.rhs[ra] -= kab * p_fixed[cell.node(b)],
+                            slot => sys.val[slot as usize] += kab,
+                        }
                     }
                 }
             }
@@ -473,7 +506,8 @@ impl Solver {
                 continue;
             }
             let len = (particles.position[a] - particles.position[b]).norm();
-            let w = (dt / rho + self.tau_e[k as usize]) * len / (2.0 * lambda);
+            let tau = self.tau_e[self.cells.element_of_triangle(k as usize)];
+            let w = (dt / rho + tau) * len / (2.0 * lambda);
             for i in [a, b] {
                 let r = sys.row_of_node[i];
                 if r != NONE {
@@ -547,6 +581,7 @@ fn pin_sealed_components(mesh: &crate::mesh::Mesh, particles: &Particles, dirich
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mesh::Mesh;
 
     #[test]
     fn pattern_of_two_triangles() {
@@ -555,7 +590,9 @@ mod tests {
             node_of_row: vec![0, 1, 2],
             ..Default::default()
         };
-        sys.build_pattern(&Mesh::from_triangles(4, vec![[0, 1, 2], [1, 3, 2]]));
+        let mesh = Mesh::from_triangles(4, vec![[0, 1, 2], [1, 3, 2]]);
+        let x = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]].map(|[a, b]| Vector2::new(a, b));
+        sys.build_pattern(&ElementSet::from_mesh(&mesh, &x));
         assert_eq!(sys.row_ptr, vec![0, 3, 6, 9]);
         assert_eq!(sys.col, vec![0, 1, 2, 0, 1, 2, 0, 1, 2]);
     }

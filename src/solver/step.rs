@@ -4,14 +4,16 @@
 //! 1. `nodes`: split stretched triangles of the last mesh, remove crowded interior nodes, merge
 //!    colliding surface nodes (if asked);
 //! 2. `remesh`: Delaunay triangulation of every node;
-//! 3. `alpha_shape`: keep triangles with R < α·h, drop all-wall ones, find the free surface;
+//! 3. `alpha_shape`: with δ > 0 merge nearly co-circular triangles into EDT polygons, keep
+//!    triangles (and polygons) with R < α·h, drop all-wall ones, find the free surface;
 //! 4. `relax` (optional, `relax.rs`): book what the remesh changed in the per-strip area
 //!    ledger, and ask the deep nodes of each strip for the divergence s that pays its balance
 //!    back; after stages 12–13 it books what the move changed (and before the first
 //!    step's stage 1, it books the initial mesh);
 //! 5. `assemble`, first part: the pattern of the pressure matrix, built here so that its
 //!    symbolic factorisation runs on the second core during stages 6–7;
-//! 6. `elements`: areas, gradients, lumped mass, Smagorinsky μ_e, τ;
+//! 6. `elements`: areas, gradients (P1 on triangles, MFEM on polygons: `element_set.rs`),
+//!    lumped mass, Smagorinsky μ_e, τ;
 //! 7. `predict`: ũ from momentum without the pressure increment;
 //! 8. `assemble`, second part, and `pressure_solve`: (Δt/ρ L + L_τ) pⁿ⁺¹ = −Dũ + Ms +
 //!    γ(Δt/ρ)L pⁿ − Qπⁿ (s the divergence target of stage 4), p = 0 on the free surface,
@@ -45,11 +47,7 @@ impl Solver {
         dt_s: f64,
     ) -> Result<StepReport, StepError> {
         let mut t = StageTimings::default();
-        let (alpha, alpha_b, h) = (
-            self.params.alpha,
-            self.params.alpha_boundary,
-            self.params.spacing_m,
-        );
+        let shape = self.params.shape();
 
         t.time(Stage::Relax, || self.relax_start(particles));
         let changes = t.time(Stage::Nodes, || self.manage_nodes(particles));
@@ -61,9 +59,7 @@ impl Solver {
             mesh::alpha_shape(
                 &tri,
                 particles,
-                alpha,
-                alpha_b,
-                h,
+                &shape,
                 flume.paddle_now.as_ref(),
                 &mut self.mesh,
             )
@@ -126,6 +122,7 @@ impl Solver {
             pressure_unknowns: self.pressure.unknowns(),
             pressure_iterations: iterations,
             kept_triangles: self.mesh.triangles.len(),
+            polygons: self.mesh.polygons.len(),
             free_surface_nodes: self.mesh.free_surface.iter().filter(|f| **f).count(),
             isolated_particles: (0..particles.len())
                 .filter(|&i| particles.is_fluid(i) && !self.mesh.in_mesh[i])

@@ -1,5 +1,5 @@
 //! Helpers shared by the integration tests: loading cases, running them headless into a
-//! temporary folder, and reading the reference data in `assets/validation/`.
+//! temporary folder, and reading what the runs wrote.
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
@@ -32,27 +32,6 @@ pub fn run_case(case: &Case, test: &str, rrd: bool) -> RunOutcome {
         },
     )
     .expect("run completes its files")
-}
-
-/// The numeric columns of a reference CSV (lines starting with # are comments; empty cells NaN).
-pub fn reference(name: &str) -> Vec<Vec<f64>> {
-    let text = std::fs::read_to_string(root().join("assets/validation").join(name)).unwrap();
-    text.lines()
-        .filter(|l| !l.starts_with('#'))
-        .skip(1)
-        .map(|l| {
-            l.split(',')
-                .map(|v| v.trim().parse().unwrap_or(f64::NAN))
-                .collect()
-        })
-        .collect()
-}
-
-/// Linear interpolation of the sampled function (xs, ys) at x.
-pub fn interpolate(xs: &[f64], ys: &[f64], x: f64) -> f64 {
-    let k = xs.partition_point(|&v| v < x).clamp(1, xs.len() - 1);
-    let (x0, x1, y0, y1) = (xs[k - 1], xs[k], ys[k - 1], ys[k]);
-    y0 + (y1 - y0) * (x - x0) / (x1 - x0)
 }
 
 pub fn exists(path: &Path) -> bool {

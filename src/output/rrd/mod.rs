@@ -10,6 +10,8 @@
 //! - `world/walls`: wall nodes, small grey points, logged every frame because
 //!   a paddle may move them.
 //! - `world/boundary`: the alpha-shape boundary as blue 2-point segments.
+//! - `world/polygons`: the outlines of the EDT polygon elements (δ > 0), orange; their inner
+//!   diagonals are left out of `world/mesh`.
 //! - `world/mesh`: triangle edges (each once), thin, only on frames that
 //!   carry triangles; cleared on the next frame without them so that an old
 //!   mesh is never drawn over newer particles.
@@ -50,6 +52,8 @@ const FLUME_COLOR: [u8; 3] = [150, 150, 150];
 const WALL_COLOR: [u8; 3] = [110, 110, 110];
 const BOUNDARY_COLOR: [u8; 3] = [30, 110, 255];
 const MESH_COLOR: [u8; 4] = [40, 40, 40, 150];
+/// EDT polygon outlines: orange, apart from the triangles' grey.
+const POLYGON_COLOR: [u8; 4] = [230, 120, 20, 220];
 
 // Draw order in 2D views: larger is drawn on top.
 const ORDER_PARTICLES: f32 = 30.0;
@@ -74,6 +78,9 @@ pub struct FrameView<'a> {
     pub boundary_edges: &'a [[u32; 2]],
     /// Kept mesh triangles; logged only when `Some`.
     pub triangles: Option<&'a [[u32; 3]]>,
+    /// The EDT polygons among them (`triangles` indices): drawn as outlines of their own
+    /// colour at `world/polygons`, with their inner diagonals left out of `world/mesh`.
+    pub polygons: &'a [crate::mesh::MeshPolygon],
     /// Named scalars, e.g. `("volume_m2", v)` or `("timing_ms/remesh", 1.2)`.
     pub scalars: &'a [(&'a str, f64)],
 }
@@ -157,6 +164,9 @@ pub struct RrdLogger {
     mesh_edges: Vec<[u32; 2]>,
     /// Mesh edge segments.
     mesh_segs: Vec<[[f32; 2]; 2]>,
+    polygon_segs: Vec<[[f32; 2]; 2]>,
+    /// Whether `world/polygons` shows outlines that must be cleared.
+    polygons_shown: bool,
     /// Whether `world/mesh` currently shows a mesh that must be cleared
     /// when a frame arrives without triangles.
     mesh_shown: bool,
@@ -222,6 +232,8 @@ impl RrdLogger {
             boundary_segs: Vec::new(),
             mesh_edges: Vec::new(),
             mesh_segs: Vec::new(),
+            polygon_segs: Vec::new(),
+            polygons_shown: false,
             mesh_shown: false,
             scalar_groups: Vec::new(),
             group_index: HashMap::new(),
@@ -263,6 +275,7 @@ impl RrdLogger {
              - **Particles** (`world/particles`): colour = {}.\n\
              - **Blue lines** (`world/boundary`): alpha-shape boundary (free surface and wetted walls).\n\
              - **Thin dark lines** (`world/mesh`): kept mesh triangles, on frames where they were logged.\n\
+             - **Orange outlines** (`world/polygons`): EDT polygon elements (δ > 0).\n\
              - **Grey points** (`world/walls`): wall nodes. **Grey polyline** (`world/flume`): walls and bed.\n\
              - Axes: x along the flume, y up, metres. Time: `{SIM_TIMELINE}` (simulated seconds).\n",
             self.scale.describe("u1", "m/s")
@@ -416,10 +429,36 @@ impl RrdLogger {
                 .with_draw_order(ORDER_BOUNDARY),
         )?;
 
-        // Mesh edges, each shared edge once.
+        // Mesh edges, each shared edge once; the triangles of a polygon give its outline only.
         if let Some(tris) = frame.triangles {
             self.mesh_edges.clear();
-            for t in tris {
+            let mut in_polygon = vec![
+                false;
+                if frame.polygons.is_empty() {
+                    0
+                } else {
+                    tris.len()
+                }
+            ];
+            self.polygon_segs.clear();
+            for poly in frame.polygons {
+                for (k, &a) in poly.nodes.iter().enumerate() {
+                    let b = poly.nodes[(k + 1) % poly.nodes.len()];
+                    let pa = node(frame.positions, a, "polygon")?;
+                    let pb = node(frame.positions, b, "polygon")?;
+                    self.polygon_segs.push([pa, pb]);
+                    self.mesh_edges.push([a.min(b), a.max(b)]);
+                }
+                for &t in &poly.triangles {
+                    if let Some(flag) = in_polygon.get_mut(t as usize) {
+                        *flag = true;
+                    }
+                }
+            }
+            for (k, t) in tris.iter().enumerate() {
+                if in_polygon.get(k).copied().unwrap_or(false) {
+                    continue;
+                }
                 for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
                     if a as usize >= n || b as usize >= n {
                         return Err(RrdError::InvalidInput(format!(
@@ -445,9 +484,23 @@ impl RrdLogger {
                     .with_radii([Radius::new_ui_points(0.35)])
                     .with_draw_order(ORDER_MESH),
             )?;
+            if !self.polygon_segs.is_empty() || self.polygons_shown {
+                self.rec.log(
+                    "world/polygons",
+                    &LineStrips2D::new(self.polygon_segs.iter().copied())
+                        .with_colors([POLYGON_COLOR])
+                        .with_radii([Radius::new_ui_points(0.8)])
+                        .with_draw_order(ORDER_MESH + 1.0),
+                )?;
+                self.polygons_shown = !self.polygon_segs.is_empty();
+            }
             self.mesh_shown = true;
         } else if self.mesh_shown {
             self.rec.log("world/mesh", &Clear::flat())?;
+            if self.polygons_shown {
+                self.rec.log("world/polygons", &Clear::flat())?;
+                self.polygons_shown = false;
+            }
             self.mesh_shown = false;
         }
 

@@ -109,6 +109,7 @@ fn write_small_run(logger: &mut RrdLogger) {
             is_fluid: &fluid,
             boundary_edges: &edges,
             triangles: (f == 1).then_some(&tris[..]),
+            polygons: &[],
             scalars: &[("volume_m2", 0.2), ("timing_ms/remesh", 1.25)],
         };
         logger.log_frame(&frame).expect("log_frame");
@@ -182,6 +183,7 @@ fn scalars_are_grouped_one_entity_per_plot_with_nan_gaps() {
             is_fluid: &fluid,
             boundary_edges: &[],
             triangles: None,
+            polygons: &[],
             scalars,
         };
         logger.log_frame(&frame).expect("log_frame");
@@ -207,6 +209,7 @@ fn scalars_are_grouped_one_entity_per_plot_with_nan_gaps() {
             is_fluid: &fluid,
             boundary_edges: &[],
             triangles: None,
+            polygons: &[],
             scalars: &[(bad, 1.0)],
         };
         assert!(logger.log_frame(&frame).is_err(), "{bad:?} accepted");
@@ -269,6 +272,7 @@ fn bad_frames_are_rejected_and_the_logger_stays_usable() {
         is_fluid: &fluid,
         boundary_edges: &[[0, 1]],
         triangles: None,
+        polygons: &[],
         scalars: &[],
     };
     let short = FrameView {
@@ -290,6 +294,7 @@ fn bad_frames_are_rejected_and_the_logger_stays_usable() {
     let tris = [[0u32, 1, 99]];
     let bad_tri = FrameView {
         triangles: Some(&tris),
+        polygons: &[],
         ..good
     };
     assert!(matches!(
@@ -401,6 +406,7 @@ fn rrd_size_per_frame_5000_particles() {
                 is_fluid: &fluid,
                 boundary_edges: &edges,
                 triangles: with_mesh.then_some(&tris[..]),
+                polygons: &[],
                 scalars: &scalars,
             };
             let t0 = std::time::Instant::now();
