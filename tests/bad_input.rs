@@ -28,7 +28,7 @@ fn run_with(name: &str, text: &str, extra: &[&str]) -> (i32, String) {
 
 #[test]
 fn each_bad_case_is_refused_with_its_reason() {
-    let cases: [(&str, String, &[&str], &[&str]); 7] = [
+    let cases: [(&str, String, &[&str], &[&str]); 10] = [
         (
             "unknown_field",
             format!("{GOOD}[solver]\nalpah = 1.3\n"),

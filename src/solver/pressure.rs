@@ -39,6 +39,7 @@
 use super::element_set::{ElementSet, polygon_boundary};
 use super::{Solver, StepError};
 use crate::case::PressureSolver;
+use crate::mesh::edt::MAX_POLYGON_NODES;
 use crate::particles::Particles;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::SupernodalThreshold;
@@ -371,6 +372,8 @@ impl Solver {
             &particles.pressure_gradient_projection,
             &self.u_tilde,
         );
+        // A polygon's matrix, summed over its cells.
+        let mut local = [0.0; MAX_POLYGON_NODES * MAX_POLYGON_NODES];
         for e in 0..self.cells.len() {
             let tau = self.tau_e[e];
             let slots = &sys.slots[sys.slot_start[e]..sys.slot_start[e + 1]];
@@ -428,12 +431,35 @@ impl Solver {
                     }
                     for b in 0..k {
                         let kab = c * cell.grad[a].dot(&cell.grad[b]);
+                        if polygon {
+                            // Summed over the cells first, scattered once below.
+                            local[k * a + b] += kab;
+                            continue;
+                        }
                         match slots[k * a + b] {
                             NONE => sys.rhs[ra] -= kab * p_fixed[cell.node(b)],
                             slot => sys.val[slot as usize] += kab,
                         }
                     }
                 }
+            }
+            if polygon {
+                let nodes = self.cells.nodes(e);
+                let k = nodes.len();
+                for a in 0..k {
+                    let ra = sys.row_of_node[nodes[a] as usize];
+                    if ra == NONE {
+                        continue;
+                    }
+                    for b in 0..k {
+                        let kab = local[k * a + b];
+                        match slots[k * a + b] {
+                            NONE => sys.rhs[ra as usize] -= kab * p_fixed[nodes[b] as usize],
+                            slot => sys.val[slot as usize] += kab,
+                        }
+                    }
+                }
+                local[..k * k].fill(0.0);
             }
         }
         self.add_weak_surface(particles, dt);

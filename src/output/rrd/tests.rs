@@ -499,3 +499,43 @@ fn the_breaker_map_and_the_surf_zone_window_are_recorded() {
     assert!(bounds[0].starts_with("/view/"), "{bounds:?}");
     let _ = std::fs::remove_file(&path);
 }
+
+/// An EDT polygon is drawn as its outline at `world/polygons`, and its inner diagonal is left
+/// out of `world/mesh`; a frame without polygons clears the outlines.
+#[test]
+fn polygons_are_outlined_and_their_diagonals_left_out() {
+    let path = temp_rrd("polygons");
+    let mut logger = test_logger(&path);
+    let edges = [[5u32, 6], [6, 7], [7, 8], [8, 9]];
+    let tris = [[0u32, 1, 5], [1, 6, 5]];
+    let quad = [crate::mesh::MeshPolygon {
+        nodes: vec![0, 1, 6, 5],
+        triangles: vec![0, 1],
+    }];
+    for f in 0..2 {
+        let (pos, vel, fluid) = small_state(0.0);
+        let frame = FrameView {
+            t_s: 0.05 * f64::from(f),
+            positions: &pos,
+            velocities: &vel,
+            is_fluid: &fluid,
+            boundary_edges: &edges,
+            triangles: Some(&tris[..]),
+            polygons: if f == 0 { &quad[..] } else { &[] },
+            scalars: &[],
+        };
+        logger.log_frame(&frame).expect("log_frame");
+        if f == 0 {
+            assert_eq!(logger.polygon_segs.len(), 4);
+            assert_eq!(logger.mesh_segs.len(), 4, "the diagonal 1–5 was drawn");
+        } else {
+            assert_eq!(logger.mesh_segs.len(), 5);
+        }
+    }
+    logger.flush();
+    drop(logger);
+    let s = summarize(&read_rrd(&path));
+    // The outline on frame 0, then a clear (an empty list) on frame 1.
+    assert_eq!(s.rows.get("/world/polygons").copied(), Some(2), "{:?}", s.rows);
+    std::fs::remove_file(&path).ok();
+}
