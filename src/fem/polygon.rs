@@ -190,20 +190,28 @@ fn star_weights(
         if tag == previous {
             continue;
         }
-        let (a, b) = (nodes[previous as usize] - x, nodes[tag as usize] - x);
-        let twice_area = a.perp(&b);
-        if !(twice_area.is_finite() && twice_area > 0.0) {
-            return None;
-        }
-        let dot = a.dot(&b);
-        let to_a = (b.norm_squared() - dot) / (2.0 * twice_area);
-        let to_b = (a.norm_squared() - dot) / (2.0 * twice_area);
+        let (to_a, to_b) = star_triangle(nodes[previous as usize] - x, nodes[tag as usize] - x)?;
         out[previous as usize] += to_a;
         out[tag as usize] += to_b;
         total += to_a + to_b;
         previous = tag;
     }
     Some(total)
+}
+
+/// The contributions of the star triangle (x, x_a, x_b), given d_a = x_a − x and d_b = x_b − x,
+/// to s_a/h_a and s_b/h_b: half the cotangents of its angles at x_b and at x_a (see
+/// [`star_weights`]); None unless its area is positive.
+fn star_triangle(a: Vector2<f64>, b: Vector2<f64>) -> Option<(f64, f64)> {
+    let twice_area = a.perp(&b);
+    if !(twice_area.is_finite() && twice_area > 0.0) {
+        return None;
+    }
+    let dot = a.dot(&b);
+    Some((
+        (b.norm_squared() - dot) / (2.0 * twice_area),
+        (a.norm_squared() - dot) / (2.0 * twice_area),
+    ))
 }
 
 /// s_i/h_i of the star of x with every node, ½(cot α + cot β) per node as in
@@ -217,14 +225,7 @@ fn full_star_weights(nodes: &[Vector2<f64>], x: Vector2<f64>, out: &mut [f64]) -
     let mut total = 0.0;
     for k in 0..n {
         let next = (k + 1) % n;
-        let (a, b) = (nodes[k] - x, nodes[next] - x);
-        let twice_area = a.perp(&b);
-        if !(twice_area.is_finite() && twice_area > 0.0) {
-            return None;
-        }
-        let dot = a.dot(&b);
-        let to_a = (b.norm_squared() - dot) / (2.0 * twice_area);
-        let to_b = (a.norm_squared() - dot) / (2.0 * twice_area);
+        let (to_a, to_b) = star_triangle(nodes[k] - x, nodes[next] - x)?;
         out[k] += to_a;
         out[next] += to_b;
         total += to_a + to_b;

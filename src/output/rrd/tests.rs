@@ -536,6 +536,11 @@ fn polygons_are_outlined_and_their_diagonals_left_out() {
     drop(logger);
     let s = summarize(&read_rrd(&path));
     // The outline on frame 0, then a clear (an empty list) on frame 1.
-    assert_eq!(s.rows.get("/world/polygons").copied(), Some(2), "{:?}", s.rows);
+    assert_eq!(
+        s.rows.get("/world/polygons").copied(),
+        Some(2),
+        "{:?}",
+        s.rows
+    );
     std::fs::remove_file(&path).ok();
 }
