@@ -48,8 +48,7 @@ pub struct SolverSettings {
     /// Extended Delaunay Tessellation (thesis eq. 2.2): two neighbouring Delaunay triangles
     /// whose circumcentres are closer than δ times their mean circumradius are merged into one
     /// polygon element with MFEM shape functions (`mesh::edt`, `fem::polygon`). 0 keeps plain
-    /// Delaunay triangles. Lies in [0, 1]; the thesis's examples use small values (0.01–0.1).
-    /// Default 0.
+    /// Delaunay triangles. Lies in [0, 1]; docs/alpha_delta.md measures 0.01–0.1. Default 0.
     pub delta: f64,
     /// Pressure splitting: 0 (first order) or 1 (incremental, second order). Default 1.
     pub gamma: f64,
@@ -192,7 +191,7 @@ impl SolverSettings {
             return err(
                 "solver.delta",
                 format!(
-                    "δ must lie in [0, 1] (0: plain Delaunay triangles; 0.01–0.1 is usual), got {}",
+                    "δ must lie in [0, 1] (0: plain Delaunay triangles; small values such as 0.01–0.1 merge nearly co-circular ones), got {}",
                     s.delta
                 ),
             );

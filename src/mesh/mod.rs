@@ -98,6 +98,7 @@ pub struct MeshPolygon {
 }
 
 const NO_POLYGON: u32 = u32::MAX;
+const NOT_KEPT: u32 = u32::MAX;
 
 /// A Delaunay triangle small enough for the α-shape: its nodes counter-clockwise and the
 /// square of its circumradius.
@@ -296,14 +297,14 @@ pub fn alpha_shape(
             &mut polygons,
         );
     }
-    let mut polygon_of = vec![
-        NO_POLYGON;
-        if polygons.is_empty() {
-            0
-        } else {
-            candidates.len()
-        }
-    ];
+    // Per candidate (only when there are polygons): its polygon, and its index among the kept
+    // triangles if kept.
+    let per_candidate = if polygons.is_empty() {
+        0
+    } else {
+        candidates.len()
+    };
+    let mut polygon_of = vec![NO_POLYGON; per_candidate];
     for (p, poly) in polygons.iter().enumerate() {
         for &k in &poly.triangles {
             polygon_of[k as usize] = p as u32;
@@ -313,15 +314,7 @@ pub fn alpha_shape(
         Some(&p) if p != NO_POLYGON => polygons[p as usize].radius_m.powi(2),
         _ => candidates[k].r2,
     };
-    // Per candidate: its index among the kept triangles, if kept.
-    let mut kept_as = vec![
-        NO_POLYGON;
-        if polygons.is_empty() {
-            0
-        } else {
-            candidates.len()
-        }
-    ];
+    let mut kept_as = vec![NOT_KEPT; per_candidate];
 
     let is_wall = |i: u32| particles.kind[i as usize] == NodeKind::Wall;
     // A wall node with a fluid node in one of its candidate triangles is wetted.
@@ -378,7 +371,7 @@ pub fn alpha_shape(
             if poly
                 .triangles
                 .iter()
-                .any(|&k| kept_as[k as usize] == NO_POLYGON)
+                .any(|&k| kept_as[k as usize] == NOT_KEPT)
             {
                 continue;
             }

@@ -252,7 +252,9 @@ impl ElementSet {
     pub fn push_polygon(&mut self, p: &fem::polygon::PolygonElement) {
         let n = p.node_weight.len();
         for (c, &a) in p.cell_area.iter().enumerate() {
-            self.area.push(a);
+            // As for a triangle: on the moved geometry of `geometry_theta` a thin cell may have
+            // turned over; its smoothed gradients (flux over signed area) stay right.
+            self.area.push(a.abs());
             self.grad
                 .extend_from_slice(&p.cell_grad[c * n..(c + 1) * n]);
             // The cell means of the shape functions, ∫_cell N_i / A_cell.
