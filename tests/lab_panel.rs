@@ -234,3 +234,33 @@ fn a_new_height_keeps_the_presets_paddle_calibration() {
     let w = controls.case(beach).unwrap().wavemaker.unwrap();
     assert_eq!((w.paddle_height_m, w.paddle_height()), (None, 0.05));
 }
+
+/// δ turned in the panel reaches the running solver at its next step, as α does: the mesh
+/// read-out counts EDT polygons with δ = 0.05 (the seeding lattice's squares merge) and none
+/// once δ is back at 0.
+#[test]
+fn delta_turned_in_the_panel_makes_polygons_in_the_solver() {
+    let mut h = harness(panel(false));
+    h.run_steps(2);
+    h.get_by_label_contains("Run").click();
+    wait_for(&mut h, 60.0, "the worker to run", |p| {
+        p.worker.status.running && p.worker.status.t_s > 0.02
+    });
+    assert_eq!(h.state().worker.status.polygons, 0, "polygons at δ = 0");
+    h.state_mut().controls.delta = 0.05;
+    h.state_mut().apply();
+    wait_for(&mut h, 60.0, "polygons after δ = 0.05", |p| {
+        p.worker.status.polygons > 50
+    });
+    let with = h.state().worker.status.polygons;
+    assert!(has_label_containing(&h, "triangles, "), "the mesh read-out");
+    h.state_mut().controls.delta = 0.0;
+    h.state_mut().apply();
+    wait_for(&mut h, 60.0, "no polygons after δ = 0", |p| {
+        p.worker.status.polygons == 0
+    });
+    println!(
+        "δ = 0.05: {with} polygons of {} triangles; δ = 0: none",
+        h.state().worker.status.triangles
+    );
+}

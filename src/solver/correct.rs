@@ -26,33 +26,28 @@ impl Solver {
         let dp = |i: usize| p_new[i] - gamma * p_old[i];
         for e in 0..self.cells.len() {
             let tau = self.tau_e[e];
-            let polygon = self.cells.nodes(e).len() > 3;
+            if let Some(ops) = self.cells.polygon_operators(e) {
+                // ∮ N_a Δp n − ∫ N_a ∇(Δp), and π from −τ ∫ N_a ∇p (see `element_set.rs`).
+                for a in 0..ops.len() {
+                    let i = ops.node(a);
+                    impulse[i] -= ops.gradient_row(a, dp);
+                    self.pi_new[i] -= tau * ops.gradient_row(a, |j| p_new[j]);
+                }
+                for (a, b, nu) in polygon_boundary(ops.nodes, &particles.position) {
+                    let (ia, ib) = (ops.node(a), ops.node(b));
+                    let (pa, pb) = (dp(ia), dp(ib));
+                    impulse[ia] += nu * (pa / 3.0 + pb / 6.0);
+                    impulse[ib] += nu * (pa / 6.0 + pb / 3.0);
+                }
+                continue;
+            }
             for cell in self.cells.cells(e) {
                 let grad_p = cell.gradient(|i| p_new[i]);
-                if polygon {
-                    // −∫_cell N_a ∇(Δp), the boundary term below (see `element_set.rs`).
-                    let grad_dp = cell.gradient(dp);
-                    for a in 0..cell.nodes.len() {
-                        let i = cell.node(a);
-                        impulse[i] -= cell.integral(a, 1.0) * grad_dp;
-                        self.pi_new[i] -= cell.integral(a, tau) * grad_p;
-                    }
-                    continue;
-                }
                 let dp_mean = cell.mean(dp);
                 for (a, &b) in cell.grad.iter().enumerate() {
                     let i = cell.node(a);
                     impulse[i] += cell.area * dp_mean * b;
                     self.pi_new[i] -= cell.integral(a, tau) * grad_p;
-                }
-            }
-            if polygon {
-                let nodes = self.cells.nodes(e);
-                for (a, b, nu) in polygon_boundary(nodes, &particles.position) {
-                    let (ia, ib) = (nodes[a] as usize, nodes[b] as usize);
-                    let (pa, pb) = (dp(ia), dp(ib));
-                    impulse[ia] += nu * (pa / 3.0 + pb / 6.0);
-                    impulse[ib] += nu * (pa / 6.0 + pb / 3.0);
                 }
             }
         }

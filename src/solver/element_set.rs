@@ -49,6 +49,15 @@ pub(super) struct ElementSet {
     weight: Vec<f64>,
     /// Per kept triangle of the mesh: the element it belongs to.
     element_of_triangle: Vec<u32>,
+    /// Per element: where a polygon's operators start in `lap` and `gop` (n² each) and in
+    /// `node_w` (n), NONE for a triangle. L_ab = Σ_c A_c b_a,c·b_b,c (1/1), G_ab = Σ_c A_c w_a,c b_b,c
+    /// (∫ N_a ∇N_b, m), W_a = Σ_c A_c w_a,c (∫ N_a, m²): the kernels of a polygon are sums of
+    /// these, built once per geometry instead of per cell in every kernel.
+    op_start: Vec<u32>,
+    w_start: Vec<u32>,
+    lap: Vec<f64>,
+    gop: Vec<Vector2<f64>>,
+    node_w: Vec<f64>,
     /// The elements around each node: `around[around_start[i]..around_start[i + 1]]`.
     around_start: Vec<u32>,
     around: Vec<u32>,
@@ -140,6 +149,45 @@ pub(super) fn polygon_boundary<'a>(
         let d = position[nodes[b] as usize] - position[nodes[a] as usize];
         (a, b, Vector2::new(d.y, -d.x))
     })
+}
+
+/// The operators of a polygon element (see `ElementSet::op_start`), local node a at row a.
+pub(super) struct PolygonOperators<'a> {
+    pub nodes: &'a [u32],
+    /// L_ab = Σ_c A_c b_a·b_b.
+    pub lap: &'a [f64],
+    /// G_ab = ∫ N_a ∇N_b.
+    pub gop: &'a [Vector2<f64>],
+    /// W_a = ∫ N_a.
+    pub node_w: &'a [f64],
+}
+
+impl PolygonOperators<'_> {
+    pub fn len(&self) -> usize {
+        self.nodes.len()
+    }
+
+    pub fn node(&self, a: usize) -> usize {
+        self.nodes[a] as usize
+    }
+
+    /// Σ_b L_ab f_b.
+    pub fn lap_row(&self, a: usize, f: impl Fn(usize) -> f64) -> f64 {
+        let n = self.len();
+        (0..n).map(|b| self.lap[a * n + b] * f(self.node(b))).sum()
+    }
+
+    /// Σ_b G_ab f_b = ∫ N_a ∇f.
+    pub fn gradient_row(&self, a: usize, f: impl Fn(usize) -> f64) -> Vector2<f64> {
+        let n = self.len();
+        (0..n).map(|b| self.gop[a * n + b] * f(self.node(b))).sum()
+    }
+
+    /// Σ_b G_ba·v_b = ∫ ∇N_a·v (v interpolated).
+    pub fn divergence_row(&self, a: usize, v: impl Fn(usize) -> Vector2<f64>) -> f64 {
+        let n = self.len();
+        (0..n).map(|b| self.gop[b * n + a].dot(&v(self.node(b)))).sum()
+    }
 }
 
 impl ElementSet {
@@ -237,6 +285,11 @@ impl ElementSet {
         self.value_start.push(0);
         self.grad.clear();
         self.weight.clear();
+        self.op_start.clear();
+        self.w_start.clear();
+        self.lap.clear();
+        self.gop.clear();
+        self.node_w.clear();
     }
 
     /// Adds the next element's single P1 cell (its area made positive; see `elements.rs`).
@@ -246,6 +299,8 @@ impl ElementSet {
         self.weight.extend_from_slice(&[1.0 / 3.0; 3]);
         self.value_start.push(self.grad.len() as u32);
         self.cell_start.push(self.area.len() as u32);
+        self.op_start.push(NONE);
+        self.w_start.push(NONE);
     }
 
     /// Adds the next element's polygon cells.
@@ -263,6 +318,41 @@ impl ElementSet {
             self.value_start.push(self.grad.len() as u32);
         }
         self.cell_start.push(self.area.len() as u32);
+        // The operators, from the cells just pushed (positive areas, cell means).
+        let first_cell = self.cell_start[self.cell_start.len() - 2] as usize;
+        let (op, start) = (self.lap.len(), self.node_w.len());
+        self.op_start.push(op as u32);
+        self.w_start.push(start as u32);
+        self.lap.resize(op + n * n, 0.0);
+        self.gop.resize(op + n * n, Vector2::zeros());
+        self.node_w.resize(start + n, 0.0);
+        for c in first_cell..self.area.len() {
+            let (area, v) = (self.area[c], self.value_start[c] as usize);
+            for a in 0..n {
+                let (b_a, w_a) = (self.grad[v + a], area * self.weight[v + a]);
+                self.node_w[start + a] += w_a;
+                for b in 0..n {
+                    self.lap[op + a * n + b] += area * b_a.dot(&self.grad[v + b]);
+                    self.gop[op + a * n + b] += self.grad[v + b] * w_a;
+                }
+            }
+        }
+    }
+
+    /// A polygon's operators (L, G, W of `op_start`'s doc), or None for a triangle.
+    pub fn polygon_operators(&self, e: usize) -> Option<PolygonOperators<'_>> {
+        let (op, start) = (self.op_start[e], self.w_start[e]);
+        if op == NONE {
+            return None;
+        }
+        let n = self.nodes(e).len();
+        let (op, start) = (op as usize, start as usize);
+        Some(PolygonOperators {
+            nodes: self.nodes(e),
+            lap: &self.lap[op..op + n * n],
+            gop: &self.gop[op..op + n * n],
+            node_w: &self.node_w[start..start + n],
+        })
     }
 
     /// The elements of a mesh with its geometry (for tests).

@@ -25,16 +25,14 @@ impl Solver {
         let mut force = vec![Vector2::zeros(); n];
         let explicit_visc = 1.0 - p.theta;
         for e in 0..self.cells.len() {
-            let polygon = self.cells.nodes(e).len() > 3;
+            let ops = self.cells.polygon_operators(e);
             for cell in self.cells.cells(e) {
                 let g = cell.velocity_gradient(|i| x_u[i]);
                 let (s, _) = fem::strain_rate(&g);
                 let visc = (-2.0 * explicit_visc * self.mu_e[e] * cell.area) * s;
-                if polygon {
-                    // −∫_cell N_a ∇p (the boundary term follows; see `element_set.rs`).
-                    let grad_p = cell.gradient(|i| pres[i]);
+                if ops.is_some() {
                     for (a, &b) in cell.grad.iter().enumerate() {
-                        force[cell.node(a)] += visc * b - cell.integral(a, p.gamma) * grad_p;
+                        force[cell.node(a)] += visc * b;
                     }
                     continue;
                 }
@@ -44,10 +42,13 @@ impl Solver {
                     force[cell.node(a)] += visc * b + press * b;
                 }
             }
-            if polygon {
-                let nodes = self.cells.nodes(e);
-                for (a, b, nu) in polygon_boundary(nodes, &particles.position) {
-                    let (ia, ib) = (nodes[a] as usize, nodes[b] as usize);
+            if let Some(ops) = ops {
+                // ∮ N_a p n − ∫ N_a ∇p (see `element_set.rs`).
+                for a in 0..ops.len() {
+                    force[ops.node(a)] -= p.gamma * ops.gradient_row(a, |i| pres[i]);
+                }
+                for (a, b, nu) in polygon_boundary(ops.nodes, &particles.position) {
+                    let (ia, ib) = (ops.node(a), ops.node(b));
                     let (pa, pb) = (p.gamma * pres[ia], p.gamma * pres[ib]);
                     force[ia] += nu * (pa / 3.0 + pb / 6.0);
                     force[ib] += nu * (pa / 6.0 + pb / 3.0);

@@ -36,7 +36,7 @@
 //! thread, which works while this one computes the element properties, the predictor and the
 //! matrix values.
 
-use super::element_set::{ElementSet, polygon_boundary};
+use super::element_set::{ElementSet, PolygonOperators, polygon_boundary};
 use super::{Solver, StepError};
 use crate::case::PressureSolver;
 use crate::mesh::edt::MAX_POLYGON_NODES;
@@ -372,24 +372,24 @@ impl Solver {
             &particles.pressure_gradient_projection,
             &self.u_tilde,
         );
-        // A polygon's matrix, summed over its cells.
-        let mut local = [0.0; MAX_POLYGON_NODES * MAX_POLYGON_NODES];
         for e in 0..self.cells.len() {
             let tau = self.tau_e[e];
             let slots = &sys.slots[sys.slot_start[e]..sys.slot_start[e + 1]];
-            let polygon = self.cells.nodes(e).len() > 3;
-            if polygon {
-                let nodes = self.cells.nodes(e);
-                for (a, b, nu) in polygon_boundary(nodes, &particles.position) {
-                    let (ia, ib) = (nodes[a] as usize, nodes[b] as usize);
-                    let (ua, ub) = (nu.dot(&u_t[ia]), nu.dot(&u_t[ib]));
-                    for (i, flux) in [(ia, ua / 3.0 + ub / 6.0), (ib, ua / 6.0 + ub / 3.0)] {
-                        let r = sys.row_of_node[i];
-                        if r != NONE {
-                            sys.rhs[r as usize] -= flux;
-                        }
-                    }
-                }
+            if let Some(ops) = self.cells.polygon_operators(e) {
+                let fields = PolygonFields {
+                    particles,
+                    p_old,
+                    p_fixed,
+                    u_t,
+                    target,
+                    dt,
+                    rho,
+                    gamma,
+                    tau,
+                    area_correction: self.params.area_correction,
+                };
+                assemble_polygon(sys, e, &ops, &self.cells, &fields);
+                continue;
             }
             for cell in self.cells.cells(e) {
                 let c = (dt / rho + tau) * cell.area;
@@ -410,13 +410,6 @@ impl Solver {
                 let pi_mean = cell.mean_vector(|i| pi_old[i]);
                 let flux = gamma * (dt / rho) * grad_p - tau * pi_mean;
                 let k = cell.nodes.len();
-                // On a polygon −∫ N_a ∇·ũ is −∮ N_a ũ·n (below) + A_c b_a·ū_c (see
-                // `element_set.rs`); the area correction stays in the strong form.
-                let (div_strong, u_mean) = if polygon {
-                    (div_u - grad_u.trace(), cell.mean_vector(|i| u_t[i]))
-                } else {
-                    (div_u, Vector2::zeros())
-                };
                 for a in 0..k {
                     let ia = cell.node(a);
                     let ra = sys.row_of_node[ia];
@@ -424,42 +417,16 @@ impl Solver {
                         continue;
                     }
                     let ra = ra as usize;
-                    sys.rhs[ra] += cell.integral(a, 1.0) * (target[ia] - div_strong)
+                    sys.rhs[ra] += cell.integral(a, 1.0) * (target[ia] - div_u)
                         + cell.area * cell.grad[a].dot(&flux);
-                    if polygon {
-                        sys.rhs[ra] += cell.area * cell.grad[a].dot(&u_mean);
-                    }
                     for b in 0..k {
                         let kab = c * cell.grad[a].dot(&cell.grad[b]);
-                        if polygon {
-                            // Summed over the cells first, scattered once below.
-                            local[k * a + b] += kab;
-                            continue;
-                        }
                         match slots[k * a + b] {
                             NONE => sys.rhs[ra] -= kab * p_fixed[cell.node(b)],
                             slot => sys.val[slot as usize] += kab,
                         }
                     }
                 }
-            }
-            if polygon {
-                let nodes = self.cells.nodes(e);
-                let k = nodes.len();
-                for a in 0..k {
-                    let ra = sys.row_of_node[nodes[a] as usize];
-                    if ra == NONE {
-                        continue;
-                    }
-                    for b in 0..k {
-                        let kab = local[k * a + b];
-                        match slots[k * a + b] {
-                            NONE => sys.rhs[ra as usize] -= kab * p_fixed[nodes[b] as usize],
-                            slot => sys.val[slot as usize] += kab,
-                        }
-                    }
-                }
-                local[..k * k].fill(0.0);
             }
         }
         self.add_weak_surface(particles, dt);
@@ -572,6 +539,76 @@ impl Solver {
             self.p_new[i as usize] = v;
         }
         Ok(iterations)
+    }
+}
+
+/// What the rows of a polygon element read.
+struct PolygonFields<'a> {
+    particles: &'a Particles,
+    p_old: &'a [f64],
+    p_fixed: &'a [f64],
+    u_t: &'a [Vector2<f64>],
+    target: &'a [f64],
+    dt: f64,
+    rho: f64,
+    gamma: f64,
+    tau: f64,
+    area_correction: bool,
+}
+
+/// The rows of polygon element `e`, from its operators (see `element_set.rs`): the matrix
+/// (Δt/ρ + τ) L, and on the right −∫ N_a ∇·ũ = −∮ N_a ũ·n + ∫ ∇N_a·ũ, the divergence target
+/// W_a s_a, the flux γ (Δt/ρ) L pⁿ − τ ∫ ∇N_a·π, and with `area_correction` the strong
+/// −∫ N_a Δt det ∇ũ of each cell.
+fn assemble_polygon(
+    sys: &mut PressureSystem,
+    e: usize,
+    ops: &PolygonOperators,
+    cells: &ElementSet,
+    f: &PolygonFields,
+) {
+    let pi_old = &f.particles.pressure_gradient_projection;
+    let n = ops.len();
+    let fluid_only = ops.nodes.iter().all(|&i| f.particles.is_fluid(i as usize));
+    let mut det_part = [0.0; MAX_POLYGON_NODES];
+    if f.area_correction && fluid_only {
+        for cell in cells.cells(e) {
+            let det = f.dt * cell.velocity_gradient(|i| f.u_t[i]).determinant();
+            for (a, d) in det_part.iter_mut().enumerate().take(n) {
+                *d += cell.integral(a, det);
+            }
+        }
+    }
+    let c = f.dt / f.rho + f.tau;
+    let slot_start = sys.slot_start[e];
+    for a in 0..n {
+        let ia = ops.node(a);
+        let ra = sys.row_of_node[ia];
+        if ra == NONE {
+            continue;
+        }
+        let ra = ra as usize;
+        sys.rhs[ra] += ops.node_w[a] * f.target[ia] - det_part[a]
+            + ops.divergence_row(a, |i| f.u_t[i])
+            + f.gamma * (f.dt / f.rho) * ops.lap_row(a, |i| f.p_old[i])
+            - f.tau * ops.divergence_row(a, |i| pi_old[i]);
+        for b in 0..n {
+            let kab = c * ops.lap[a * n + b];
+            match sys.slots[slot_start + n * a + b] {
+                NONE => sys.rhs[ra] -= kab * f.p_fixed[ops.node(b)],
+                slot => sys.val[slot as usize] += kab,
+            }
+        }
+    }
+    for (a, b, nu) in polygon_boundary(ops.nodes, &f.particles.position) {
+        let (ia, ib) = (ops.node(a), ops.node(b));
+        let (ua, ub) = (nu.dot(&f.u_t[ia]), nu.dot(&f.u_t[ib]));
+        for (i, flux) in [(ia, ua / 3.0 + ub / 6.0), (ib, ua / 6.0 + ub / 3.0)] {
+            let r = sys.row_of_node[i];
+            if r != NONE {
+                sys.rhs[r as usize] -= flux;
+            }
+        }
     }
 }
 
