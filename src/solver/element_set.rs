@@ -1,9 +1,10 @@
 //! The finite elements of a step and their integration cells.
 //!
 //! An element is a kept triangle of the mesh (P1) or, with `solver.delta` > 0, an EDT polygon
-//! (`mesh::edt`) with the MFEM shape functions of `fem::polygon`. Every kernel of the step
-//! (`elements.rs`, `predict.rs`, `pressure.rs`, `correct.rs`) loops over the elements and,
-//! within each, over its integration cells: a triangle is one cell with its constant P1
+//! (`mesh::edt`) with the MFEM shape functions of `fem::polygon`. The kernels of the step
+//! (`elements.rs`, `predict.rs`, `pressure.rs`, `correct.rs`) loop over the elements and,
+//! within each, over its integration cells (a polygon's pressure terms use the operators
+//! summed over its cells, see `op_start`): a triangle is one cell with its constant P1
 //! gradients; a polygon of n nodes is the fan of n cells to its centre, each with the smoothed
 //! gradients of all n shape functions. In a cell, ∫_cell f ∇N_i = A_cell f̄ b_i, with f̄ the
 //! cell mean of the interpolated field (P1: the mean of the three nodes) and b_i the cell's
@@ -50,9 +51,10 @@ pub(super) struct ElementSet {
     /// Per kept triangle of the mesh: the element it belongs to.
     element_of_triangle: Vec<u32>,
     /// Per element: where a polygon's operators start in `lap` and `gop` (n² each) and in
-    /// `node_w` (n), NONE for a triangle. L_ab = Σ_c A_c b_a,c·b_b,c (1/1), G_ab = Σ_c A_c w_a,c b_b,c
-    /// (∫ N_a ∇N_b, m), W_a = Σ_c A_c w_a,c (∫ N_a, m²): the kernels of a polygon are sums of
-    /// these, built once per geometry instead of per cell in every kernel.
+    /// `node_w` (n), NONE for a triangle. L_ab = Σ_c A_c b_a,c·b_b,c (dimensionless),
+    /// G_ab = Σ_c A_c w_a,c b_b,c (∫ N_a ∇N_b, m), W_a = Σ_c A_c w_a,c (∫ N_a, m²): the
+    /// pressure terms of a polygon are sums of these, built once per geometry instead of per
+    /// cell in every kernel.
     op_start: Vec<u32>,
     w_start: Vec<u32>,
     lap: Vec<f64>,
@@ -186,7 +188,9 @@ impl PolygonOperators<'_> {
     /// Σ_b G_ba·v_b = ∫ ∇N_a·v (v interpolated).
     pub fn divergence_row(&self, a: usize, v: impl Fn(usize) -> Vector2<f64>) -> f64 {
         let n = self.len();
-        (0..n).map(|b| self.gop[b * n + a].dot(&v(self.node(b)))).sum()
+        (0..n)
+            .map(|b| self.gop[b * n + a].dot(&v(self.node(b))))
+            .sum()
     }
 }
 
