@@ -4,7 +4,9 @@
 //! uⁿ⁺¹_i = ũ_i + (Δt/m_i) Σ_e A_e (p̄ⁿ⁺¹ − γ p̄ⁿ)_e b_i   (nodes in the mesh, less the traction
 //! on the edges that end at a wall contact point as in `predict.rs`; a slip wall node
 //! keeps only the part along its wall, a no-slip one none),
-//! π_i = −Σ_e τ_e (A_e/3) ∇pⁿ⁺¹_e / Σ_e τ_e (A_e/3).
+//! π_i = −Σ_e τ_e (A_e/3) ∇pⁿ⁺¹_e / Σ_e τ_e (A_e/3);
+//! on a polygon element the impulse is ∮ N_i Δp n − ∫ N_i ∇Δp and π's sums use ∫ N_i ∇p and
+//! ∫ N_i (`element_set.rs`).
 //!
 //! Nothing is written to the particles here: the `move` stage commits, so a step whose Δt must
 //! be halved can be redone.

@@ -3,8 +3,9 @@
 //!
 //! (M/Δt + θK) ũ = (M/Δt) uⁿ − (1 − θ) K uⁿ + γ Dᵀpⁿ + M g.
 //!
-//! Per element, K u contributes 2μ_e A S(u) b_i to node i (symmetric-gradient form) and Dᵀp
-//! contributes A p̄ b_i, less the traction on the edges that end at a wall contact point
+//! Per cell, K u contributes 2μ_e A S(u) b_i to node i (symmetric-gradient form); Dᵀp
+//! contributes A p̄ b_i on a triangle and ∮ N_i p n − ∫ N_i ∇p on a polygon (`element_set.rs`),
+//! less the traction on the edges that end at a wall contact point
 //! (`Solver::cancel_contact_traction`). With θ = 0 this is explicit per node; with θ > 0 it
 //! is solved by matrix-free Jacobi-CG. No-slip wall nodes keep their Dirichlet velocity (0);
 //! slip wall nodes keep the component of ũ along the wall (they do not move; their velocity
