@@ -432,14 +432,12 @@ impl RrdLogger {
         // Mesh edges, each shared edge once; the triangles of a polygon give its outline only.
         if let Some(tris) = frame.triangles {
             self.mesh_edges.clear();
-            let mut in_polygon = vec![
-                false;
-                if frame.polygons.is_empty() {
-                    0
-                } else {
-                    tris.len()
-                }
-            ];
+            let flagged = if frame.polygons.is_empty() {
+                0
+            } else {
+                tris.len()
+            };
+            let mut in_polygon = vec![false; flagged];
             self.polygon_segs.clear();
             for poly in frame.polygons {
                 for (k, &a) in poly.nodes.iter().enumerate() {
