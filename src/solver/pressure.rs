@@ -421,10 +421,10 @@ impl Solver {
                         + cell.area * cell.grad[a].dot(&flux);
                     for b in 0..k {
                         let kab = c * cell.grad[a].dot(&cell.grad[b]);
-                        match slots[k * a + b] {
-                            NONE => sys.rhs[ra] -= kab * p_fixed[cell.node(b)],
-                            slot => sys.val[slot as usize] += kab,
-                        }
+                        let slot = slots[k * a + b];
+                        add_entry(&mut sys.rhs[ra], &mut sys.val, slot, kab, || {
+                            p_fixed[cell.node(b)]
+                        });
                     }
                 }
             }
@@ -542,6 +542,16 @@ impl Solver {
     }
 }
 
+/// Adds matrix entry (row, column) = `value` at its `slot` in the values, or, when the column's
+/// pressure is prescribed (`NONE`), moves it to the row's right-hand side times that pressure.
+#[inline]
+fn add_entry(rhs: &mut f64, val: &mut [f64], slot: u32, value: f64, fixed: impl Fn() -> f64) {
+    match slot {
+        NONE => *rhs -= value * fixed(),
+        slot => val[slot as usize] += value,
+    }
+}
+
 /// What the rows of a polygon element read.
 struct PolygonFields<'a> {
     particles: &'a Particles,
@@ -594,10 +604,10 @@ fn assemble_polygon(
             - f.tau * ops.divergence_row(a, |i| pi_old[i]);
         for b in 0..n {
             let kab = c * ops.lap[a * n + b];
-            match sys.slots[slot_start + n * a + b] {
-                NONE => sys.rhs[ra] -= kab * f.p_fixed[ops.node(b)],
-                slot => sys.val[slot as usize] += kab,
-            }
+            let slot = sys.slots[slot_start + n * a + b];
+            add_entry(&mut sys.rhs[ra], &mut sys.val, slot, kab, || {
+                f.p_fixed[ops.node(b)]
+            });
         }
     }
     for (a, b, nu) in polygon_boundary(ops.nodes, &f.particles.position) {
