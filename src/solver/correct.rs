@@ -19,7 +19,7 @@ use nalgebra::Vector2;
 impl Solver {
     pub(super) fn correct(&mut self, particles: &Particles, dt: f64) {
         let n = particles.len();
-        let gamma = self.params.gamma;
+        let gamma = self.params.settings.gamma;
         let p_old = &self.p_old;
         let mut impulse = vec![Vector2::zeros(); n];
         self.pi_new.clear();

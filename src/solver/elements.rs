@@ -54,10 +54,15 @@ impl Solver {
                 let h_e = fem::element_size(e.area);
                 let g = fem::velocity_gradient(&e, [u[a], u[b], u[c]]);
                 let (_, s_mag) = fem::strain_rate(&g);
-                let mu_e =
-                    fem::smagorinsky_viscosity(p.viscosity_pa_s, rho, p.smagorinsky_cs, h_e, s_mag);
+                let mu_e = fem::smagorinsky_viscosity(
+                    p.viscosity_pa_s,
+                    rho,
+                    p.settings.smagorinsky_cs,
+                    h_e,
+                    s_mag,
+                );
                 let speed = ((u[a] + u[b] + u[c]) / 3.0).norm();
-                let tau = fem::tau(p.tau, rho, mu_e, h_e, dt, speed);
+                let tau = fem::tau(p.settings.tau, rho, mu_e, h_e, dt, speed);
                 let third = e.area / 3.0;
                 for i in [a, b, c] {
                     self.mass[i] += rho * third;
@@ -88,10 +93,15 @@ impl Solver {
                     }
                 }
                 let (_, s_mag) = fem::strain_rate(&(g / area));
-                let mu_e =
-                    fem::smagorinsky_viscosity(p.viscosity_pa_s, rho, p.smagorinsky_cs, h_e, s_mag);
+                let mu_e = fem::smagorinsky_viscosity(
+                    p.viscosity_pa_s,
+                    rho,
+                    p.settings.smagorinsky_cs,
+                    h_e,
+                    s_mag,
+                );
                 let speed = (mean_u / n as f64).norm();
-                let tau = fem::tau(p.tau, rho, mu_e, h_e, dt, speed);
+                let tau = fem::tau(p.settings.tau, rho, mu_e, h_e, dt, speed);
                 for (k, &i) in nodes.iter().enumerate() {
                     self.mass[i as usize] += rho * poly.node_weight[k];
                     self.tau_mass[i as usize] += tau * poly.node_weight[k];

@@ -24,7 +24,7 @@ use nalgebra::Vector2;
 impl Solver {
     /// Applies the filter; returns how many nodes it changed.
     pub(super) fn filter_surface(&mut self, particles: &Particles) -> usize {
-        let Some(eps) = self.params.surface_filter else {
+        let Some(eps) = self.params.settings.surface_filter else {
             return 0;
         };
         let chains = SurfaceChains::new(&self.mesh, particles);

@@ -20,61 +20,37 @@ mod step;
 mod surface;
 mod volume;
 
-use crate::case::{
-    Case, DtPolicy, Fluid, ParticleSettings, PressureSolver, SolverSettings, TauFormula,
-    TimeSettings,
-};
+use crate::case::{Case, DtPolicy, Fluid, ParticleSettings, SolverSettings, TimeSettings};
 use crate::mesh::{Mesh, MeshError};
 use nalgebra::Vector2;
 
 pub use pressure::PressureSystem;
 
-/// Physical and numerical parameters of the solver, resolved from a case.
+/// The solver's parameters: the case's `[solver]` table as written (its one source of truth,
+/// with its defaults and its validation in `case::solver`), and what the solver resolves from
+/// the rest of the case: lengths in metres, gravity as a vector, the time-step policy, the
+/// absorber and the divergence guard.
 #[derive(Debug, Clone)]
 pub struct SolverParams {
+    /// The `[solver]` table: α, δ, the fractional step, stabilisation, the pressure solver,
+    /// node management and the optional surface and volume corrections.
+    pub settings: SolverSettings,
     pub density_kg_m3: f64,
     pub viscosity_pa_s: f64,
     pub gravity_m_s2: Vector2<f64>,
     /// Particle spacing h, m.
     pub spacing_m: f64,
-    pub alpha: f64,
-    pub alpha_boundary: f64,
-    /// EDT merge parameter δ (0: plain Delaunay triangles).
-    pub delta: f64,
-    pub gamma: f64,
-    pub theta: f64,
-    pub smagorinsky_cs: f64,
-    pub tau: TauFormula,
-    pub pressure_solver: PressureSolver,
-    pub cg_tolerance: f64,
-    pub cg_max_iterations: usize,
-    /// Closest approach of a fluid particle to the solid, m.
+    /// Closest approach of a fluid particle to the solid, m (`wall_margin_h` h).
     pub wall_margin_m: f64,
-    /// Node insertion threshold on the circumradius, in units of h (`None`: off).
-    pub insert_radius_h: Option<f64>,
-    /// Node removal threshold on the spacing, in units of h (`None`: off).
-    pub remove_distance_h: Option<f64>,
-    /// Free-surface pairs closer than this (in units of h) are merged (`None`: off).
-    pub merge_surface_distance_h: Option<f64>,
+    /// Robin length of the weak free-surface condition in m (`weak_surface_length_h` h);
+    /// `None`: strong p = 0.
+    pub weak_surface_length_m: Option<f64>,
     /// Smallest Δt the solver may fall back to when a step would invert elements.
     pub dt_min_s: f64,
     /// May the solver shorten Δt on its own (CFL policy) when a step would invert elements?
     pub adaptive_dt: bool,
     /// Damping layer: (start x, length, β in 1/s).
     pub absorber: Option<(f64, f64, f64)>,
-    /// Global volume correction on the free surface (see `volume.rs`).
-    pub volume_recovery: bool,
-    /// Continuity asks for ∇·u = −Δt det ∇ũ so the move keeps element areas.
-    pub area_correction: bool,
-    /// Robin length of the weak free-surface condition in m; `None`: strong p = 0.
-    pub weak_surface_length_m: Option<f64>,
-    /// Strength of the fourth-difference filter of the surface velocities (`None`: off).
-    pub surface_filter: Option<f64>,
-    /// Relaxation time T_r of the per-strip water-area ledger (`relax.rs`), s (`None`: off).
-    pub volume_relaxation_s: Option<f64>,
-    /// Implicitness of the short-scale surface motion: one more pass on the surface moved by
-    /// θₓ Δt times its short-scale velocity (`None`: off).
-    pub geometry_theta: Option<f64>,
     /// A fluid speed above this stops the run as diverged, m/s (ten times the speed of a fall
     /// from the top of the flume, sqrt(2 g H)).
     pub speed_limit_m_s: f64,
@@ -87,15 +63,15 @@ impl SolverParams {
     /// The largest circumradius the α-shape keeps, α h (boundary triangles use the smaller
     /// α_b h), so the triangulation needs to report nothing larger.
     pub fn alpha_radius_m(&self) -> f64 {
-        self.alpha * self.spacing_m
+        self.settings.alpha * self.spacing_m
     }
 
     /// The α-shape's and the EDT's parameters.
     pub fn shape(&self) -> crate::mesh::ShapeParams {
         crate::mesh::ShapeParams {
-            alpha: self.alpha,
-            alpha_boundary: self.alpha_boundary,
-            delta: self.delta,
+            alpha: self.settings.alpha,
+            alpha_boundary: self.settings.alpha_boundary,
+            delta: self.settings.delta,
             spacing_m: self.spacing_m,
         }
     }
@@ -121,34 +97,17 @@ impl SolverParams {
         time: &TimeSettings,
     ) -> SolverParams {
         SolverParams {
+            settings: s.clone(),
             density_kg_m3: fluid.density_kg_m3,
             viscosity_pa_s: fluid.viscosity_pa_s,
             gravity_m_s2: Vector2::new(0.0, -fluid.gravity_m_s2),
             spacing_m: particles.spacing_m,
-            alpha: s.alpha,
-            alpha_boundary: s.alpha_boundary,
-            delta: s.delta,
-            gamma: s.gamma,
-            theta: s.theta,
-            smagorinsky_cs: s.smagorinsky_cs,
-            tau: s.tau,
-            pressure_solver: s.pressure_solver,
-            cg_tolerance: s.cg_tolerance,
-            cg_max_iterations: s.cg_max_iterations,
             wall_margin_m: s.wall_margin_h * particles.spacing_m,
-            insert_radius_h: s.insert_radius_h,
-            remove_distance_h: s.remove_distance_h,
-            merge_surface_distance_h: s.merge_surface_distance_h,
+            weak_surface_length_m: s.weak_surface_length_h.map(|l| l * particles.spacing_m),
             dt_min_s: time.dt_min_s,
             adaptive_dt: time.dt_policy == DtPolicy::Cfl,
             absorber: None,
             speed_limit_m_s: f64::INFINITY,
-            volume_recovery: s.volume_recovery,
-            area_correction: s.area_correction,
-            weak_surface_length_m: s.weak_surface_length_h.map(|l| l * particles.spacing_m),
-            surface_filter: s.surface_filter,
-            volume_relaxation_s: s.volume_relaxation_s,
-            geometry_theta: s.geometry_theta,
             two_threads: true,
         }
     }

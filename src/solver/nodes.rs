@@ -40,7 +40,7 @@ pub struct NodeChanges {
 impl Solver {
     pub(super) fn manage_nodes(&mut self, particles: &mut Particles) -> NodeChanges {
         let h = self.params.spacing_m;
-        let insert_r_h = self.params.insert_radius_h;
+        let insert_r_h = self.params.settings.insert_radius_h;
         let x = &particles.position;
         let mut added: Vec<NewNode> = Vec::new();
         let mut taken = std::collections::HashSet::new();
@@ -89,6 +89,7 @@ impl Solver {
         let mut drop = vec![false; n];
         let min_d2 = self
             .params
+            .settings
             .remove_distance_h
             .map_or(0.0, |d| (d * h).powi(2));
         let removable = |i: usize, mesh: &crate::mesh::Mesh| {
@@ -110,6 +111,7 @@ impl Solver {
         // Colliding surface particles: merge each close pair into its midpoint.
         let merge_d2 = self
             .params
+            .settings
             .merge_surface_distance_h
             .map_or(0.0, |d| (d * h).powi(2));
         let mut moved: Vec<(usize, Vector2<f64>, Vector2<f64>)> = Vec::new();

@@ -24,7 +24,7 @@ impl Solver {
         let (x_u, pres) = (&particles.velocity, &self.p_old);
         // Explicit forces: −(1−θ)K uⁿ + γ Dᵀpⁿ.
         let mut force = vec![Vector2::zeros(); n];
-        let explicit_visc = 1.0 - p.theta;
+        let explicit_visc = 1.0 - p.settings.theta;
         for e in 0..self.cells.len() {
             let ops = self.cells.polygon_operators(e);
             for cell in self.cells.cells(e) {
@@ -38,7 +38,7 @@ impl Solver {
                     continue;
                 }
                 let p_mean = cell.mean(|i| pres[i]);
-                let press = p.gamma * cell.area * p_mean;
+                let press = p.settings.gamma * cell.area * p_mean;
                 for (a, &b) in cell.grad.iter().enumerate() {
                     force[cell.node(a)] += visc * b + press * b;
                 }
@@ -46,17 +46,17 @@ impl Solver {
             if let Some(ops) = ops {
                 // ∮ N_a p n − ∫ N_a ∇p (see `element_set.rs`).
                 for a in 0..ops.len() {
-                    force[ops.node(a)] -= p.gamma * ops.gradient_row(a, |i| pres[i]);
+                    force[ops.node(a)] -= p.settings.gamma * ops.gradient_row(a, |i| pres[i]);
                 }
                 for (a, b, nu) in polygon_boundary(ops.nodes, &particles.position) {
                     let (ia, ib) = (ops.node(a), ops.node(b));
-                    let (pa, pb) = (p.gamma * pres[ia], p.gamma * pres[ib]);
+                    let (pa, pb) = (p.settings.gamma * pres[ia], p.settings.gamma * pres[ib]);
                     force[ia] += nu * (pa / 3.0 + pb / 6.0);
                     force[ib] += nu * (pa / 6.0 + pb / 3.0);
                 }
             }
         }
-        self.cancel_contact_traction(particles, |i| p.gamma * pres[i], &mut force);
+        self.cancel_contact_traction(particles, |i| p.settings.gamma * pres[i], &mut force);
         self.u_tilde.clear();
         self.u_tilde.resize(n, Vector2::zeros());
         for i in 0..n {
@@ -69,7 +69,7 @@ impl Solver {
             };
             self.u_tilde[i] = particles.admissible_velocity(i, u);
         }
-        if p.theta > 0.0 {
+        if p.settings.theta > 0.0 {
             self.implicit_viscous_correction(particles, dt);
         }
     }
@@ -79,7 +79,7 @@ impl Solver {
     /// (M/Δt + θK)(ũ + δ) = (M/Δt) ũ, i.e. the θ-weighted predictor.
     fn implicit_viscous_correction(&mut self, particles: &Particles, dt: f64) {
         let n = particles.len();
-        let theta = self.params.theta;
+        let theta = self.params.settings.theta;
         let free: Vec<bool> = (0..n)
             .map(|i| particles.is_fluid(i) && self.mass[i] > 0.0)
             .collect();
@@ -135,8 +135,8 @@ impl Solver {
             }
         };
         let mut delta = vec![0.0; 2 * n];
-        let tol = self.params.cg_tolerance;
-        let max_it = self.params.cg_max_iterations;
+        let tol = self.params.settings.cg_tolerance;
+        let max_it = self.params.settings.cg_max_iterations;
         // A non-converged viscous correction is still an improvement on the explicit one; the
         // pressure stage reports real trouble.
         let _ = cg::pcg(

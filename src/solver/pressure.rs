@@ -336,7 +336,7 @@ impl Solver {
         let m = sys.unknowns();
         // With one core only (the lab leaves the other to the window) the solve analyses
         // the pattern itself.
-        if self.params.pressure_solver == PressureSolver::Cholesky
+        if self.params.settings.pressure_solver == PressureSolver::Cholesky
             && m > 0
             && self.params.two_threads
         {
@@ -351,8 +351,12 @@ impl Solver {
     /// Matrix values and right-hand side for this Δt (the pattern is `prepare_pressure`'s).
     pub(super) fn assemble_pressure(&mut self, particles: &Particles, dt: f64) {
         let rho = self.params.density_kg_m3;
-        let gamma = self.params.gamma;
-        let area_dt = if self.params.area_correction { dt } else { 0.0 };
+        let gamma = self.params.settings.gamma;
+        let area_dt = if self.params.settings.area_correction {
+            dt
+        } else {
+            0.0
+        };
         let sys = &mut self.pressure;
         let m = sys.unknowns();
         sys.val.iter_mut().for_each(|v| *v = 0.0);
@@ -386,7 +390,7 @@ impl Solver {
                     rho,
                     gamma,
                     tau,
-                    area_correction: self.params.area_correction,
+                    area_correction: self.params.settings.area_correction,
                 };
                 assemble_polygon(sys, e, &ops, &self.cells, &fields);
                 continue;
@@ -521,7 +525,11 @@ impl Solver {
         let p = &self.params;
         let iterations = self
             .pressure
-            .solve(p.pressure_solver, p.cg_tolerance, p.cg_max_iterations)
+            .solve(
+                p.settings.pressure_solver,
+                p.settings.cg_tolerance,
+                p.settings.cg_max_iterations,
+            )
             .map_err(StepError::Pressure)?;
         self.p_new.clear();
         self.p_new.extend_from_slice(&self.p_fixed);

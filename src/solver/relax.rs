@@ -186,7 +186,7 @@ impl Solver {
 
     /// Before the first step's node stage: the strip areas of the initial mesh.
     pub(super) fn relax_start(&mut self, particles: &Particles) {
-        if self.params.volume_relaxation_s.is_none() || self.ledger.moved.is_some() {
+        if self.params.settings.volume_relaxation_s.is_none() || self.ledger.moved.is_some() {
             return;
         }
         self.ledger.strip_m = STRIP_H * self.params.spacing_m;
@@ -202,7 +202,7 @@ impl Solver {
         let n = particles.len();
         self.divergence_target.clear();
         self.divergence_target.resize(n, 0.0);
-        let Some(t_r) = self.params.volume_relaxation_s else {
+        let Some(t_r) = self.params.settings.volume_relaxation_s else {
             return;
         };
         let h = self.params.spacing_m;
@@ -262,7 +262,7 @@ impl Solver {
     /// After the move: books each triangle's area change and keeps the strip areas for the
     /// next remesh.
     pub(super) fn relax_after_move(&mut self, particles: &Particles) {
-        if self.params.volume_relaxation_s.is_none() {
+        if self.params.settings.volume_relaxation_s.is_none() {
             return;
         }
         let x = &particles.position;

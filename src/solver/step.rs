@@ -79,7 +79,7 @@ impl Solver {
             let iterations = t.time(Stage::PressureSolve, || self.solve_pressure(particles))?;
             t.time(Stage::Correct, || self.correct(particles, dt));
             let mut inverted = self.would_invert(particles, dt);
-            if !inverted && let Some(theta_x) = self.params.geometry_theta {
+            if !inverted && let Some(theta_x) = self.params.settings.geometry_theta {
                 t.time(Stage::Geometry, || {
                     self.shift_geometry(particles, theta_x * dt)
                 });
@@ -108,7 +108,7 @@ impl Solver {
         let guarded = t.time(Stage::Move, || self.move_particles(particles, flume, dt))?;
         let area_after_move = self.mesh.area(&particles.position);
         let recovered = match self.volume_target_m2 {
-            Some(target) if self.params.volume_recovery => t.time(Stage::Recover, || {
+            Some(target) if self.params.settings.volume_recovery => t.time(Stage::Recover, || {
                 self.recover_volume(particles, flume, area_after_move, target)
             }),
             _ => 0.0,
