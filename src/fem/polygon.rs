@@ -207,10 +207,10 @@ fn star_triangle(a: Vector2<f64>, b: Vector2<f64>) -> Option<(f64, f64)> {
     if !(twice_area.is_finite() && twice_area > 0.0) {
         return None;
     }
-    let dot = a.dot(&b);
+    let (dot, half_over) = (a.dot(&b), 0.5 / twice_area);
     Some((
-        (b.norm_squared() - dot) / (2.0 * twice_area),
-        (a.norm_squared() - dot) / (2.0 * twice_area),
+        (b.norm_squared() - dot) * half_over,
+        (a.norm_squared() - dot) * half_over,
     ))
 }
 
@@ -457,8 +457,9 @@ fn interior_coordinates(nodes: &[Vector2<f64>], x: Vector2<f64>, out: &mut [f64]
     out.fill(0.0);
     match full_star_weights(nodes, x, out) {
         Some(total) if total > 0.0 && total.is_finite() => {
+            let scale = 1.0 / total;
             for w in out.iter_mut() {
-                *w /= total;
+                *w *= scale;
             }
         }
         _ => laplace_coordinates(nodes, x, out),

@@ -87,6 +87,11 @@ pub struct Mesh {
     merger: edt::Merger,
     merged: Vec<edt::Polygon>,
     candidate_nodes: Vec<[u32; 3]>,
+    /// Per candidate of the last α-shape: its polygon, its index among the kept triangles;
+    /// per node: wetted wall (scratch, kept to spare the allocations).
+    polygon_of: Vec<u32>,
+    kept_as: Vec<u32>,
+    wetted: Vec<bool>,
 }
 
 /// A polygon element of the kept mesh: its boundary loop, counter-clockwise, and the kept
@@ -272,7 +277,8 @@ pub fn alpha_shape(
     let max_r2 = (alpha * h) * (alpha * h);
     let max_r2_boundary = (shape.alpha_boundary.min(alpha) * h).powi(2);
     mesh.triangles.clear();
-    mesh.polygons.clear();
+    // The polygons' vectors are reused: `used` entries are rewritten, the rest dropped below.
+    let mut used = 0;
     mesh.polygon_of_triangle.clear();
     mesh.boundary_edges.clear();
     mesh.boundary_edge_triangle.clear();
@@ -304,7 +310,9 @@ pub fn alpha_shape(
     } else {
         candidates.len()
     };
-    let mut polygon_of = vec![NO_POLYGON; per_candidate];
+    let mut polygon_of = std::mem::take(&mut mesh.polygon_of);
+    polygon_of.clear();
+    polygon_of.resize(per_candidate, NO_POLYGON);
     for (p, poly) in polygons.iter().enumerate() {
         for &k in &poly.triangles {
             polygon_of[k as usize] = p as u32;
@@ -314,11 +322,15 @@ pub fn alpha_shape(
         Some(&p) if p != NO_POLYGON => polygons[p as usize].radius_m.powi(2),
         _ => candidates[k].r2,
     };
-    let mut kept_as = vec![NOT_KEPT; per_candidate];
+    let mut kept_as = std::mem::take(&mut mesh.kept_as);
+    kept_as.clear();
+    kept_as.resize(per_candidate, NOT_KEPT);
 
     let is_wall = |i: u32| particles.kind[i as usize] == NodeKind::Wall;
     // A wall node with a fluid node in one of its candidate triangles is wetted.
-    let mut wetted = vec![false; n];
+    let mut wetted = std::mem::take(&mut mesh.wetted);
+    wetted.clear();
+    wetted.resize(n, false);
     for c in candidates {
         if c.nodes.iter().any(|&i| !is_wall(i)) {
             for &i in &c.nodes {
@@ -375,21 +387,26 @@ pub fn alpha_shape(
             {
                 continue;
             }
-            let triangles: Vec<u32> = poly
-                .triangles
-                .iter()
-                .map(|&k| kept_as[k as usize])
-                .collect();
-            for &t in &triangles {
-                mesh.polygon_of_triangle[t as usize] = mesh.polygons.len() as u32;
+            if used == mesh.polygons.len() {
+                mesh.polygons.push(MeshPolygon::default());
             }
-            mesh.polygons.push(MeshPolygon {
-                nodes: poly.nodes.clone(),
-                triangles,
-            });
+            let kept = &mut mesh.polygons[used];
+            kept.nodes.clear();
+            kept.nodes.extend_from_slice(&poly.nodes);
+            kept.triangles.clear();
+            kept.triangles
+                .extend(poly.triangles.iter().map(|&k| kept_as[k as usize]));
+            for &t in &kept.triangles {
+                mesh.polygon_of_triangle[t as usize] = used as u32;
+            }
+            used += 1;
         }
     }
+    mesh.polygons.truncate(used);
     mesh.merged = polygons;
+    mesh.polygon_of = polygon_of;
+    mesh.kept_as = kept_as;
+    mesh.wetted = wetted;
 
     // Boundary edges: an edge a → b of a kept triangle with no kept triangle holding b → a.
     mesh.index_triangles(n);

@@ -307,40 +307,51 @@ impl ElementSet {
         self.w_start.push(NONE);
     }
 
-    /// Adds the next element's polygon cells.
+    /// Adds the next element's polygon cells and its operators.
     pub fn push_polygon(&mut self, p: &fem::polygon::PolygonElement) {
         let n = p.node_weight.len();
-        for (c, &a) in p.cell_area.iter().enumerate() {
-            // As for a triangle: on the moved geometry of `geometry_theta` a thin cell may have
-            // turned over; its smoothed gradients (flux over signed area) stay right.
-            self.area.push(a.abs());
-            self.grad
-                .extend_from_slice(&p.cell_grad[c * n..(c + 1) * n]);
-            // The cell means of the shape functions, ∫_cell N_i / A_cell.
-            self.weight
-                .extend(p.cell_weight[c * n..(c + 1) * n].iter().map(|w| w / a));
-            self.value_start.push(self.grad.len() as u32);
-        }
-        self.cell_start.push(self.area.len() as u32);
-        // The operators, from the cells just pushed (positive areas, cell means).
-        let first_cell = self.cell_start[self.cell_start.len() - 2] as usize;
         let (op, start) = (self.lap.len(), self.node_w.len());
         self.op_start.push(op as u32);
         self.w_start.push(start as u32);
         self.lap.resize(op + n * n, 0.0);
         self.gop.resize(op + n * n, Vector2::zeros());
         self.node_w.resize(start + n, 0.0);
-        for c in first_cell..self.area.len() {
-            let (area, v) = (self.area[c], self.value_start[c] as usize);
+        let lap = &mut self.lap[op..op + n * n];
+        let gop = &mut self.gop[op..op + n * n];
+        let node_w = &mut self.node_w[start..start + n];
+        let cells = p
+            .cell_area
+            .iter()
+            .zip(p.cell_grad.chunks_exact(n))
+            .zip(p.cell_weight.chunks_exact(n));
+        for ((&signed_area, grad), weight) in cells {
+            // As for a triangle: on the moved geometry of `geometry_theta` a thin cell may have
+            // turned over; its smoothed gradients (flux over signed area) stay right.
+            let area = signed_area.abs();
+            self.area.push(area);
+            self.grad.extend_from_slice(grad);
+            // The cell means of the shape functions, ∫_cell N_i / A_cell.
+            let (mean_start, per_area) = (self.weight.len(), 1.0 / signed_area);
+            self.weight.extend(weight.iter().map(|w| w * per_area));
+            self.value_start.push(self.grad.len() as u32);
+            // The operators (positive areas, cell means); L is symmetric.
+            let mean = &self.weight[mean_start..];
             for a in 0..n {
-                let (b_a, w_a) = (self.grad[v + a], area * self.weight[v + a]);
-                self.node_w[start + a] += w_a;
-                for b in 0..n {
-                    self.lap[op + a * n + b] += area * b_a.dot(&self.grad[v + b]);
-                    self.gop[op + a * n + b] += self.grad[v + b] * w_a;
+                let (b_a, w_a) = (grad[a], area * mean[a]);
+                node_w[a] += w_a;
+                for b in a..n {
+                    let l = area * b_a.dot(&grad[b]);
+                    lap[a * n + b] += l;
+                    if b != a {
+                        lap[b * n + a] += l;
+                    }
+                }
+                for (g, b_b) in gop[a * n..(a + 1) * n].iter_mut().zip(grad) {
+                    *g += b_b * w_a;
                 }
             }
         }
+        self.cell_start.push(self.area.len() as u32);
     }
 
     /// A polygon's operators (L, G, W of `op_start`'s doc), or None for a triangle.

@@ -72,8 +72,9 @@ impl Solver {
                 (mu_e, tau)
             } else {
                 // A polygon: its size is that of its Delaunay triangles (n − 2 of them), its
-                // strain rate the area mean over its cells, which is exact (Σ_c A_c ∇N_i,c is
-                // ∮ N_i n over the polygon).
+                // strain rate the area mean over its cells: Σ_c A_c ∇N_k,c = ∮ N_k n, which
+                // with N_k linear on the two edges at node k is half the sum of their outward
+                // normals times their lengths.
                 let n = nodes.len();
                 let mut pts = [nalgebra::Vector2::zeros(); MAX_POLYGON_NODES];
                 for (p, &i) in pts.iter_mut().zip(nodes) {
@@ -88,9 +89,8 @@ impl Solver {
                 for (k, &i) in nodes.iter().enumerate() {
                     let u_i = u[i as usize];
                     mean_u += u_i;
-                    for (c, &a_c) in poly.cell_area.iter().enumerate() {
-                        g += u_i * poly.cell_grad[c * n + k].transpose() * a_c;
-                    }
+                    let d = pts[(k + 1) % n] - pts[(k + n - 1) % n];
+                    g += u_i * nalgebra::Vector2::new(d.y, -d.x).transpose() * 0.5;
                 }
                 let (_, s_mag) = fem::strain_rate(&(g / area));
                 let mu_e = fem::smagorinsky_viscosity(
