@@ -39,6 +39,13 @@ impl Solver {
             }
         }));
         self.p_old = p_old;
+        // The element's eddy viscosity (Smagorinsky) and stabilisation τ from its size, strain
+        // rate and mean speed.
+        let viscosity_and_tau = |h_e: f64, s_mag: f64, speed: f64| {
+            let cs = p.settings.smagorinsky_cs;
+            let mu_e = fem::smagorinsky_viscosity(p.viscosity_pa_s, rho, cs, h_e, s_mag);
+            (mu_e, fem::tau(p.settings.tau, rho, mu_e, h_e, dt, speed))
+        };
         let mut cells = std::mem::take(&mut self.cells);
         let mut polygon = std::mem::take(&mut self.polygon_scratch);
         cells.clear_geometry();
@@ -54,15 +61,8 @@ impl Solver {
                 let h_e = fem::element_size(e.area);
                 let g = fem::velocity_gradient(&e, [u[a], u[b], u[c]]);
                 let (_, s_mag) = fem::strain_rate(&g);
-                let mu_e = fem::smagorinsky_viscosity(
-                    p.viscosity_pa_s,
-                    rho,
-                    p.settings.smagorinsky_cs,
-                    h_e,
-                    s_mag,
-                );
                 let speed = ((u[a] + u[b] + u[c]) / 3.0).norm();
-                let tau = fem::tau(p.settings.tau, rho, mu_e, h_e, dt, speed);
+                let (mu_e, tau) = viscosity_and_tau(h_e, s_mag, speed);
                 let third = e.area / 3.0;
                 for i in [a, b, c] {
                     self.mass[i] += rho * third;
@@ -93,15 +93,8 @@ impl Solver {
                     g += u_i * nalgebra::Vector2::new(d.y, -d.x).transpose() * 0.5;
                 }
                 let (_, s_mag) = fem::strain_rate(&(g / area));
-                let mu_e = fem::smagorinsky_viscosity(
-                    p.viscosity_pa_s,
-                    rho,
-                    p.settings.smagorinsky_cs,
-                    h_e,
-                    s_mag,
-                );
                 let speed = (mean_u / n as f64).norm();
-                let tau = fem::tau(p.settings.tau, rho, mu_e, h_e, dt, speed);
+                let (mu_e, tau) = viscosity_and_tau(h_e, s_mag, speed);
                 for (k, &i) in nodes.iter().enumerate() {
                     self.mass[i as usize] += rho * poly.node_weight[k];
                     self.tau_mass[i as usize] += tau * poly.node_weight[k];
