@@ -205,6 +205,23 @@ impl Simulation {
                 w.absorb(self.time_s, eta);
             }
         }
+        if let Some([a, b]) = self
+            .wavemaker
+            .as_ref()
+            .and_then(|w| w.reflection_gauges_x_m())
+        {
+            let level = self.wavemaker.as_ref().map_or(0.0, |w| w.still_level_m());
+            let eta = |x: f64| {
+                self.surface_heights_at(x)
+                    .into_iter()
+                    .reduce(f64::max)
+                    .map(|y| y - level)
+            };
+            let read = eta(a).zip(eta(b)).map(|(a, b)| [a, b]);
+            if let Some(w) = &mut self.wavemaker {
+                w.absorb_reflection(self.time_s, read);
+            }
+        }
         if let Some(w) = &self.wavemaker {
             w.prescribe(&mut self.particles, &mut self.flume, self.time_s, dt);
         }

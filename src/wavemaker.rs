@@ -20,6 +20,12 @@
 //! is absorbed. The paddle's own absorbing motion is taken out of what is read, so with a face
 //! that answers as the model says there is no feedback at all; one that answers g times the
 //! model closes a loop of gain (g − 1)/2 times the one-period mean, stable for 0 < g < 3.
+//!
+//! A paddle may also absorb the wave the beach reflects, at its own period
+//! (`wavemaker.absorb_reflected_waves`, piston or flap): two gauges in front of it split the
+//! last period into the waves going out and coming back, and the paddle adds the motion that
+//! radiates the opposite of the second (`waves::absorption`). Its displacement is capped at the
+//! paddle's own amplitude, for which the case's check leaves room.
 
 use std::collections::VecDeque;
 
@@ -27,6 +33,7 @@ use crate::case::{Case, WaveTheory};
 use crate::geometry::{Flume, PaddleFace};
 use crate::particles::Particles;
 use crate::waves::WaveError;
+use crate::waves::absorption::{self, ReflectionAbsorber};
 use crate::waves::linear::PaddleKind;
 use crate::waves::paddle::PaddleMotion;
 use nalgebra::Vector2;
@@ -72,6 +79,45 @@ pub struct Wavemaker {
     start_s: f64,
     /// The long-wave absorber, when the case asks for it.
     absorber: Option<LongWaveAbsorber>,
+    /// The absorber of the reflected wave, when the case asks for it, and what a retune needs
+    /// to build it again for another period.
+    reflection: Option<ReflectionAbsorber>,
+    reflection_design: Option<ReflectionDesign>,
+}
+
+/// What the reflected-wave absorber is built from (see [`Wavemaker::retune`]).
+#[derive(Debug, Clone, Copy)]
+struct ReflectionDesign {
+    gravity_m_s2: f64,
+    /// Flat bed in front of the paddle, m.
+    flat_m: f64,
+}
+
+impl ReflectionDesign {
+    /// The absorber for `motion` started at `start_s` (it begins one period after the ramp,
+    /// or after the first period: the split assumes a steady wave); `None` when the flat bed
+    /// has no room for its gauges at that period.
+    fn build(
+        &self,
+        motion: &PaddleMotion,
+        depth_m: f64,
+        start_s: f64,
+    ) -> Option<ReflectionAbsorber> {
+        let period = motion.period_s();
+        let gauges =
+            absorption::gauge_offsets_m(period, depth_m, self.gravity_m_s2, self.flat_m).ok()?;
+        let begin = start_s + motion.ramp_duration_s().max(period);
+        ReflectionAbsorber::new(
+            motion.kind(),
+            period,
+            depth_m,
+            self.gravity_m_s2,
+            gauges,
+            begin,
+            0.5 * motion.stroke_m(),
+        )
+        .ok()
+    }
 }
 
 /// The long-wave absorber's state (see the module comment).
@@ -196,12 +242,23 @@ impl Wavemaker {
         let n = (length_m / h).round().max(1.0) as usize;
         let spacing = length_m / (n as f64 + 0.5);
         let offsets_m = (0..=n).map(|k| (k as f64 + 0.5) * spacing).collect();
+        let depth = case.paddle_depth_m().unwrap_or(0.0);
         let absorber = w.absorb_long_waves.then(|| {
-            let depth = case.paddle_depth_m().unwrap_or(0.0);
+            // The reflected-wave absorber may swing back as far again as the motion.
             let (back, _) = motion.excursion_m();
+            let back = if w.absorb_reflected_waves {
+                2.0 * back
+            } else {
+                back
+            };
             LongWaveAbsorber::new(w.period_s, depth, case.fluid.gravity_m_s2)
                 .with_limits(w.x_m + back - 2.0 * h, depth)
         });
+        let reflection_design = w.absorb_reflected_waves.then(|| ReflectionDesign {
+            gravity_m_s2: case.fluid.gravity_m_s2,
+            flat_m: absorption::flat_length_m(w.x_m, flume.length_m, |x| flume.bed_y(x)),
+        });
+        let reflection = reflection_design.and_then(|d| d.build(&motion, depth, 0.0));
         Some(Ok(Wavemaker {
             motion,
             hinge,
@@ -212,6 +269,8 @@ impl Wavemaker {
             hold_m: 0.0,
             start_s: 0.0,
             absorber,
+            reflection,
+            reflection_design,
         }))
     }
 
@@ -234,7 +293,8 @@ impl Wavemaker {
 
     /// Displacement of the face at the still-water level at `t_s`, m.
     pub fn displacement_m(&self, t_s: f64) -> f64 {
-        let absorbed = self.absorber.as_ref().map_or(0.0, |a| a.offset_at(t_s));
+        let absorbed = self.absorber.as_ref().map_or(0.0, |a| a.offset_at(t_s))
+            + self.reflection.as_ref().map_or(0.0, |a| a.offset_at(t_s));
         self.hold_m + self.motion.displacement_m(t_s - self.start_s) + absorbed
     }
 
@@ -264,6 +324,32 @@ impl Wavemaker {
         self.absorber.as_mut().map_or(0.0, |a| a.update(t_s, eta_m))
     }
 
+    /// The flume x of the reflected-wave absorber's two gauges, m, when the paddle has one.
+    pub fn reflection_gauges_x_m(&self) -> Option<[f64; 2]> {
+        let [a, b] = self.reflection.as_ref()?.gauges_m();
+        Some([self.hinge.x + a, self.hinge.x + b])
+    }
+
+    /// Before a step from `t_s`: feeds η at the two reflection gauges (m above still water;
+    /// `None` when either is dry) to the reflected-wave absorber.
+    pub fn absorb_reflection(&mut self, t_s: f64, eta_m: Option<[f64; 2]>) {
+        if let Some(a) = &mut self.reflection {
+            a.update(t_s, eta_m);
+        }
+    }
+
+    /// The amplitude of the reflected wave arriving at the paddle, from its absorber's last
+    /// full period, m (`None` without one).
+    pub fn arriving_amplitude_m(&self) -> Option<f64> {
+        self.reflection.as_ref().map(|a| a.arriving_amplitude_m())
+    }
+
+    /// The amplitude of the wave going out from the paddle, read as
+    /// [`Wavemaker::arriving_amplitude_m`], m.
+    pub fn outgoing_amplitude_m(&self) -> Option<f64> {
+        self.reflection.as_ref().map(|a| a.outgoing_amplitude_m())
+    }
+
     /// The displacement absorbing has added so far, m.
     pub fn absorbed_offset_m(&self, t_s: f64) -> f64 {
         self.absorber.as_ref().map_or(0.0, |a| a.offset_at(t_s))
@@ -277,6 +363,9 @@ impl Wavemaker {
             a.clear_offset(t_s);
         }
         self.start_s = t_s;
+        self.reflection = self
+            .reflection_design
+            .and_then(|d| d.build(&motion, self.depth_m, t_s));
         self.motion = motion;
     }
 

@@ -162,3 +162,82 @@ fn validate_refuses_a_run_too_short_with_the_reason() {
     assert_eq!(again.status.code(), Some(1), "{stderr}");
     assert!(stderr.contains("20 periods"), "{stderr}");
 }
+
+/// A flap against a vertical end wall, which reflects the whole wave. An observer of its own
+/// (the absorber's two-gauge split, fed the same surface, never moving anything) reads the
+/// wave going out and the wave coming back. With the paddle absorbing, the wave going out stays
+/// at its design height round trip after round trip; with a rigid paddle the re-reflected wave
+/// joins it, and the observer sees it wander from near zero to nearly twice the design.
+#[test]
+fn an_absorbing_flap_keeps_the_wave_going_out_at_its_design_height() {
+    use surflab::waves::absorption::{ReflectionAbsorber, gauge_offsets_m};
+    use surflab::waves::linear::PaddleKind;
+    let (period, depth, design) = (1.5, 0.4, 0.02);
+    let run = |absorb: bool| {
+        let set = format!("wavemaker.absorb_reflected_waves={absorb}");
+        let case = common::case(
+            "wall_reflection.toml",
+            &[
+                "flume.length_m=4.0",
+                "water.0.x_start_m=0.4",
+                "water.0.x_end_m=4.0",
+                "water.0.depth_m=0.4",
+                "wavemaker.x_m=0.4",
+                "wavemaker.height_m=0.04",
+                "wavemaker.period_s=1.5",
+                "wavemaker.ramp_periods=1.0",
+                &set,
+                "particles.spacing_m=0.04",
+                "time.dt_max_s=0.01",
+                "output.gauges_x_m=[1.0]",
+            ],
+        );
+        let mut sim = Simulation::new(&case).unwrap();
+        let gauges = gauge_offsets_m(period, depth, 9.81, 3.6).unwrap();
+        let mut observer =
+            ReflectionAbsorber::new(PaddleKind::Flap, period, depth, 9.81, gauges, 0.0, 1.0)
+                .unwrap();
+        let (mut lo, mut hi, mut last) = (f64::INFINITY, 0.0f64, (0.0, 0.0));
+        let until = 25.0;
+        while sim.time_s < until {
+            let eta = |x: f64| {
+                let y = sim.surface_heights_at(0.4 + x).into_iter().reduce(f64::max);
+                y.map(|y| y - depth)
+            };
+            let read = eta(gauges[0]).zip(eta(gauges[1])).map(|(a, b)| [a, b]);
+            observer.update(sim.time_s, read);
+            sim.step_towards(until).unwrap();
+            // From 10 s: the wave has been to the wall and back to the paddle at least once.
+            if sim.time_s >= 10.0 {
+                let out = observer.outgoing_amplitude_m();
+                lo = lo.min(out);
+                hi = hi.max(out);
+                last = (out, observer.arriving_amplitude_m());
+            }
+        }
+        let w = sim.wavemaker.as_ref().unwrap();
+        if absorb {
+            // The paddle's own split reads what the observer reads.
+            let own = w.outgoing_amplitude_m().unwrap();
+            assert!((own - last.0).abs() < 1e-3, "{own} vs {}", last.0);
+        }
+        println!(
+            "absorbing {absorb}: gauges at {:.3}, {:.3} m; wave going out {lo:.4}–{hi:.4} m over \
+             10–25 s (design {design} m); at 25 s out {:.4}, back {:.4} (ratio {:.3})",
+            0.4 + gauges[0],
+            0.4 + gauges[1],
+            last.0,
+            last.1,
+            last.1 / last.0
+        );
+        (lo, hi, last.1 / last.0)
+    };
+    let (lo, hi, ratio) = run(true);
+    // The generated wave at 10 particles per depth, and a one-period split of a reflection
+    // that is not quite steady: ±20 % of the design amplitude.
+    assert!(lo > 0.8 * design && hi < 1.2 * design, "{lo} {hi}");
+    // The wall sends it all back (what the 7 m path damps aside).
+    assert!(ratio > 0.8 && ratio < 1.2, "{ratio}");
+    let (lo, hi, _) = run(false);
+    assert!(lo < 0.5 * design && hi > 1.5 * design, "rigid: {lo} {hi}");
+}

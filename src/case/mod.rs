@@ -251,11 +251,17 @@ impl Case {
         if let Some(w) = &self.wavemaker {
             // The wave must be one the paddle can make, and its stroke must fit in the flume:
             // both need the motion designed from the theory (in `crate::wavemaker`).
-            w.validate(&self.flume, h, self.paddle_depth_m(), || {
-                PaddleMotion::from_case(self)
-                    .expect("a wavemaker is present")
-                    .map(|m| m.excursion_m())
-            })?;
+            w.validate(
+                &self.flume,
+                h,
+                self.fluid.gravity_m_s2,
+                self.paddle_depth_m(),
+                || {
+                    PaddleMotion::from_case(self)
+                        .expect("a wavemaker is present")
+                        .map(|m| m.excursion_m())
+                },
+            )?;
         }
         self.surf
             .validate(self.flume.length_m, self.wavemaker.is_some())?;

@@ -5,8 +5,8 @@
 use serde::{Deserialize, Serialize};
 
 use super::{Flume, err, positive};
-use crate::waves::WaveError;
 use crate::waves::linear::PaddleKind;
+use crate::waves::{WaveError, absorption};
 
 /// Which theory drives the paddle.
 #[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq)]
@@ -52,6 +52,15 @@ pub struct WavemakerSettings {
     /// (false).
     #[serde(default)]
     pub absorb_long_waves: bool,
+    /// The paddle absorbs the wave the beach reflects, at its own period: two gauges in front
+    /// of it split the last period's first harmonic into the wave going out and the wave coming
+    /// back, and the paddle adds the motion that radiates the opposite of the second
+    /// (`waves::absorption`), as an absorbing lab paddle does. Without it a closed flume builds
+    /// a standing wave between the paddle and a reflective beach. Needs a period, flat bed in
+    /// front of the paddle for the gauges and room behind it for twice the backward stroke.
+    /// Default off (false).
+    #[serde(default)]
+    pub absorb_reflected_waves: bool,
 }
 
 impl WavemakerSettings {
@@ -69,6 +78,7 @@ impl WavemakerSettings {
         &self,
         flume: &Flume,
         h: f64,
+        gravity_m_s2: f64,
         depth_m: Option<f64>,
         excursion: impl FnOnce() -> Result<(f64, f64), WaveError>,
     ) -> Result<(), (String, String)> {
@@ -98,6 +108,12 @@ impl WavemakerSettings {
             return err(
                 "wavemaker.absorb_long_waves",
                 "a solitary wave has no period to average over".to_owned(),
+            );
+        }
+        if w.absorb_reflected_waves && w.theory == WaveTheory::Solitary {
+            return err(
+                "wavemaker.absorb_reflected_waves",
+                "a solitary wave has no period to absorb at".to_owned(),
             );
         }
         if let Some(v) = w.paddle_height_m
@@ -133,6 +149,12 @@ impl WavemakerSettings {
                 ),
             );
         };
+        if w.absorb_reflected_waves {
+            let flat = absorption::flat_length_m(w.x_m, flume.length_m, |x| flume.bed_y_at(x));
+            if let Err(e) = absorption::gauge_offsets_m(w.period_s, depth, gravity_m_s2, flat) {
+                return err("wavemaker.absorb_reflected_waves", e);
+            }
+        }
         let (back, _) = match excursion() {
             Ok(range) => range,
             Err(e) => {
@@ -151,11 +173,22 @@ impl WavemakerSettings {
             PaddleKind::Piston => 1.0,
             PaddleKind::Flap => (flume.height_m - flume.bed_y_at(w.x_m)) / depth,
         };
+        // Absorbing may add a motion as large as the paddle's own (a wave reflected whole).
+        let back = if w.absorb_reflected_waves {
+            2.0 * back
+        } else {
+            back
+        };
         if w.x_m + reach * back < 2.0 * h {
+            let with = if w.absorb_reflected_waves {
+                " (twice its backward stroke, with the absorbing motion)"
+            } else {
+                ""
+            };
             return err(
                 "wavemaker.x_m",
                 format!(
-                    "the paddle swings back {:.3} m and would hit the left wall: put it at x ≥ {:.3} m",
+                    "the paddle swings back {:.3} m{with} and would hit the left wall: put it at x ≥ {:.3} m",
                     -reach * back,
                     -reach * back + 2.0 * h
                 ),
@@ -224,5 +257,40 @@ mod tests {
         );
         let e = Case::load(&dir.join("solitary.toml"), &on).unwrap_err();
         assert!(e.to_string().contains("wavemaker.absorb_long_waves"), "{e}");
+    }
+
+    #[test]
+    fn reflected_wave_absorption_needs_a_period_gauge_room_and_stroke_room() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases");
+        let base = dir.join("breaker_map_slope025.toml");
+        let c = Case::load(&base, &["wavemaker.period_s=4.0".to_owned()]).unwrap();
+        assert!(c.wavemaker.as_ref().unwrap().absorb_reflected_waves);
+        let on = ["wavemaker.absorb_reflected_waves=true".to_owned()];
+        let e = Case::load(&dir.join("solitary.toml"), &on).unwrap_err();
+        assert!(e.to_string().contains("absorb_reflected_waves"), "{e}");
+        // The slope 1.5 m from the paddle: no room for the gauges of a 4 s wave.
+        let short = [
+            "flume.beach.toe_x_m=2.5".to_owned(),
+            "wavemaker.period_s=4.0".to_owned(),
+        ];
+        let e = Case::load(&base, &short).unwrap_err().to_string();
+        println!("{e}");
+        assert!(
+            e.contains("absorb_reflected_waves") && e.contains("1.50 m long"),
+            "{e}"
+        );
+        // The paddle where the case had it before absorbing: room for its own stroke at 3 s,
+        // not for twice it.
+        let near = [
+            "wavemaker.x_m=0.5".to_owned(),
+            "water.0.x_start_m=0.5".to_owned(),
+            "wavemaker.period_s=3.0".to_owned(),
+        ];
+        let e = Case::load(&base, &near).unwrap_err().to_string();
+        println!("{e}");
+        assert!(e.contains("wavemaker.x_m") && e.contains("twice"), "{e}");
+        let mut rigid = near.to_vec();
+        rigid.push("wavemaker.absorb_reflected_waves=false".to_owned());
+        Case::load(&base, &rigid).unwrap();
     }
 }

@@ -261,6 +261,14 @@ fn summarize(sim: &Simulation, series: &[Integrals], m: &Measured, status: Strin
             .as_ref()
             .filter(|w| w.absorbs())
             .map(|w| w.absorbed_offset_m(sim.time_s)),
+        paddle_arriving_amplitude_m: sim
+            .wavemaker
+            .as_ref()
+            .and_then(|w| w.arriving_amplitude_m()),
+        paddle_reflection_gauges_x_m: sim
+            .wavemaker
+            .as_ref()
+            .and_then(|w| w.reflection_gauges_x_m()),
     }
 }
 

@@ -43,6 +43,12 @@ pub struct Summary {
     /// m (positive: towards the water).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub paddle_absorbed_m: Option<f64>,
+    /// With `wavemaker.absorb_reflected_waves`: the amplitude of the reflected wave arriving at
+    /// the paddle over the last period its gauges read, m, and where they stand.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub paddle_arriving_amplitude_m: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub paddle_reflection_gauges_x_m: Option<[f64; 2]>,
 }
 
 #[derive(Debug, Clone, Serialize)]

@@ -23,6 +23,7 @@
 //! `z` is vertical with `z = 0` at the still water level and `z = −h` at the
 //! bed. Gravity is always passed in explicitly (`gravity_m_s2`).
 
+pub mod absorption;
 pub mod breaker;
 pub mod cnoidal;
 pub mod elliptic;

@@ -95,15 +95,20 @@ impl PaddleMotion {
         }
     }
 
+    /// Length of the start-up ramp, s (0 for a solitary wave).
+    pub fn ramp_duration_s(&self) -> f64 {
+        match self {
+            PaddleMotion::Linear(p) => p.ramp_duration_s(),
+            PaddleMotion::Cnoidal(p) => p.ramp_duration_s(),
+            PaddleMotion::Solitary(_) => 0.0,
+        }
+    }
+
     /// The range [min, max] of X(t) at the still-water level, sampled at T/400 over the ramp and
     /// four periods after it, m.
     pub fn excursion_m(&self) -> (f64, f64) {
         let period = self.period_s();
-        let ramp = match self {
-            PaddleMotion::Linear(p) => p.ramp_duration_s(),
-            PaddleMotion::Cnoidal(p) => p.ramp_duration_s(),
-            PaddleMotion::Solitary(_) => 0.0,
-        };
+        let ramp = self.ramp_duration_s();
         let n = ((ramp / period + 4.0) * 400.0).ceil() as usize;
         let dt = (ramp + 4.0 * period) / n as f64;
         (0..=n)
