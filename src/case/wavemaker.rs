@@ -279,8 +279,8 @@ mod tests {
             e.contains("absorb_reflected_waves") && e.contains("1.50 m long"),
             "{e}"
         );
-        // The paddle where the case had it before absorbing: room for its own stroke at 3 s,
-        // not for twice it.
+        // The hinge 0.5 m from the left wall: room for the flap's own backward stroke at 3 s
+        // (0.31 m at its top), not for twice it.
         let near = [
             "wavemaker.x_m=0.5".to_owned(),
             "water.0.x_start_m=0.5".to_owned(),
