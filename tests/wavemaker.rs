@@ -1,6 +1,7 @@
 //! The paddle as a moving wall: its nodes land exactly on the prescribed path, no water gets
-//! behind it, the velocity probes and gauge statistics reach gauges.csv and summary.json, and a
-//! bad wavemaker is refused with the field and the reason.
+//! behind it, the velocity probes and gauge statistics reach gauges.csv and summary.json, a
+//! bad wavemaker is refused with the field and the reason, and an absorbing flap sends what a
+//! wall reflects out of the flume.
 
 mod common;
 

@@ -1,7 +1,7 @@
 //! Active absorption of the wave a beach reflects, at the paddle's own frequency: the paddle
 //! reads two wave gauges in front of it, splits the first harmonic of the last wave period into
 //! the wave going out and the wave coming back (the two-gauge method of Goda & Suzuki 1976,
-//! run over a sliding window as absorbing lab paddles do, e.g. Frigaard & Christensen 1994),
+//! run over a sliding window of one period),
 //! and adds to its motion the one that radiates the opposite of the wave coming back, so that
 //! it leaves the flume instead of being re-reflected towards the beach.
 //!
