@@ -189,39 +189,37 @@ impl Simulation {
         self.solver.area_ledger_right_of_m2(x_m)
     }
 
+    /// Height of the highest crossing of the vertical line x = `x_m` with the free surface, m
+    /// above the floor; `None` when dry.
+    pub fn surface_top_at(&self, x_m: f64) -> Option<f64> {
+        self.surface_heights_at(x_m).into_iter().reduce(f64::max)
+    }
+
+    /// Before a step: the paddle's absorbers read η (m above the still level at the paddle) at
+    /// their gauges.
+    fn read_paddle_gauges(&mut self) {
+        let Some(w) = &self.wavemaker else { return };
+        let level = w.still_level_m();
+        let eta = |x: f64| self.surface_top_at(x).map(|y| y - level);
+        let long = w
+            .absorbs()
+            .then(|| eta(w.probe_x_m(self.time_s, self.case.particles.spacing_m)));
+        let reflected = w
+            .reflection_gauges_x_m()
+            .map(|[a, b]| eta(a).zip(eta(b)).map(|(a, b)| [a, b]));
+        let Some(w) = &mut self.wavemaker else { return };
+        if let Some(eta) = long {
+            w.absorb(self.time_s, eta);
+        }
+        if let Some(read) = reflected {
+            w.absorb_reflection(self.time_s, read);
+        }
+    }
+
     /// One step towards `until_s`.
     pub fn step_towards(&mut self, until_s: f64) -> Result<StepReport, StepError> {
         let dt = self.next_dt(until_s);
-        if let Some(w) = &self.wavemaker
-            && w.absorbs()
-        {
-            let x = w.probe_x_m(self.time_s, self.case.particles.spacing_m);
-            let eta = self
-                .surface_heights_at(x)
-                .into_iter()
-                .reduce(f64::max)
-                .map(|y| y - w.still_level_m());
-            if let Some(w) = &mut self.wavemaker {
-                w.absorb(self.time_s, eta);
-            }
-        }
-        if let Some([a, b]) = self
-            .wavemaker
-            .as_ref()
-            .and_then(|w| w.reflection_gauges_x_m())
-        {
-            let level = self.wavemaker.as_ref().map_or(0.0, |w| w.still_level_m());
-            let eta = |x: f64| {
-                self.surface_heights_at(x)
-                    .into_iter()
-                    .reduce(f64::max)
-                    .map(|y| y - level)
-            };
-            let read = eta(a).zip(eta(b)).map(|(a, b)| [a, b]);
-            if let Some(w) = &mut self.wavemaker {
-                w.absorb_reflection(self.time_s, read);
-            }
-        }
+        self.read_paddle_gauges();
         if let Some(w) = &self.wavemaker {
             w.prescribe(&mut self.particles, &mut self.flume, self.time_s, dt);
         }

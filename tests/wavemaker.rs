@@ -201,10 +201,7 @@ fn an_absorbing_flap_keeps_the_wave_going_out_at_its_design_height() {
         let (mut lo, mut hi, mut last) = (f64::INFINITY, 0.0f64, (0.0, 0.0));
         let until = 25.0;
         while sim.time_s < until {
-            let eta = |x: f64| {
-                let y = sim.surface_heights_at(0.4 + x).into_iter().reduce(f64::max);
-                y.map(|y| y - depth)
-            };
+            let eta = |x: f64| surflab::diagnostics::surface_elevation(&sim, 0.4 + x);
             let read = eta(gauges[0]).zip(eta(gauges[1])).map(|(a, b)| [a, b]);
             observer.update(sim.time_s, read);
             sim.step_towards(until).unwrap();
