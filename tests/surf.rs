@@ -94,29 +94,67 @@ fn breaker_rules() {
     let hb = 0.2;
     // Offshore of the shoreline (h_b ≥ H_b / 2): the fold's reach decides, and where on the
     // wave it starts.
-    assert_eq!(classify(0.3, hb, 0.0, 0.0, false), BreakerType::Spilling);
-    assert_eq!(classify(0.3, hb, 0.099, 0.18, true), BreakerType::Spilling);
-    assert_eq!(classify(0.3, hb, 0.101, 0.18, false), BreakerType::Plunging);
-    assert_eq!(classify(0.1, hb, 0.2, 0.15, true), BreakerType::Plunging);
+    assert_eq!(
+        classify(0.3, hb, 0.0, 0.0, false, false),
+        BreakerType::Spilling
+    );
+    assert_eq!(
+        classify(0.3, hb, 0.099, 0.18, true, false),
+        BreakerType::Spilling
+    );
+    assert_eq!(
+        classify(0.3, hb, 0.101, 0.18, false, false),
+        BreakerType::Plunging
+    );
+    assert_eq!(
+        classify(0.1, hb, 0.2, 0.15, true, false),
+        BreakerType::Plunging
+    );
     // A long fold low on the face: the front collapses, the crest does not plunge.
     assert_eq!(
-        classify(0.3, hb, 0.15, 0.099, false),
+        classify(0.3, hb, 0.15, 0.099, false, false),
         BreakerType::Collapsing
     );
-    assert_eq!(classify(0.3, hb, 0.15, 0.101, false), BreakerType::Plunging);
+    assert_eq!(
+        classify(0.3, hb, 0.15, 0.101, false, false),
+        BreakerType::Plunging
+    );
+    // No long fold, but the lower face of the whole crest steepened past 60°: collapsing
+    // (Galvin); a long fold from the crest still plunges.
+    assert_eq!(
+        classify(0.3, hb, 0.0, 0.0, false, true),
+        BreakerType::Collapsing
+    );
+    assert_eq!(
+        classify(0.3, hb, 0.099, 0.18, true, true),
+        BreakerType::Collapsing
+    );
+    assert_eq!(
+        classify(0.3, hb, 0.15, 0.101, false, true),
+        BreakerType::Plunging
+    );
     // At the shoreline: a long jet from the crest that traps air plunges, anything else
     // collapses.
-    assert_eq!(classify(0.05, hb, 0.1, 0.15, true), BreakerType::Plunging);
-    assert_eq!(classify(0.05, hb, 0.1, 0.05, true), BreakerType::Collapsing);
     assert_eq!(
-        classify(0.05, hb, 0.1, 0.15, false),
+        classify(0.05, hb, 0.1, 0.15, true, false),
+        BreakerType::Plunging
+    );
+    assert_eq!(
+        classify(0.05, hb, 0.1, 0.05, true, false),
         BreakerType::Collapsing
     );
     assert_eq!(
-        classify(0.05, hb, 0.02, 0.15, true),
+        classify(0.05, hb, 0.1, 0.15, false, false),
         BreakerType::Collapsing
     );
-    assert_eq!(classify(0.0, hb, 0.0, 0.0, false), BreakerType::Collapsing);
+    assert_eq!(
+        classify(0.05, hb, 0.02, 0.15, true, false),
+        BreakerType::Collapsing
+    );
+    assert_eq!(
+        classify(0.0, hb, 0.0, 0.0, false, false),
+        BreakerType::Collapsing
+    );
 }
 
 #[test]

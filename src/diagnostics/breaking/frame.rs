@@ -37,6 +37,11 @@ impl Watch {
         if (k_lo..k_hi.saturating_sub(f.face_span)).any(|k| f.steep(k)) {
             self.breaker.steep_face = true;
         }
+        let k_c = f.profile.index(self.crest_x_m);
+        let fall = f.steep_lower_face_m(k_c, self.trough_m, hb);
+        if fall > self.breaker.lower_face_fall_m {
+            self.breaker.lower_face_fall_m = fall;
+        }
     }
 
     /// The overturned runs of the frame between `lo` and `hi`: the longest (and its top above
@@ -67,6 +72,7 @@ impl Watch {
             b.overturn_reach_m,
             b.overturn_top_m,
             b.cavity,
+            b.lower_face_fall_m > 0.0,
         );
         b
     }
@@ -77,7 +83,8 @@ impl Watch {
 pub(super) struct Onset {
     /// The crest's x, m.
     pub(super) x_m: f64,
-    /// "overturning", "steep_face" or "kinematic" (see [`Breaker::onset`]).
+    /// "overturning", "steep_face", "steep_lower_face" or "kinematic" (see
+    /// [`Breaker::onset`]).
     pub(super) trigger: &'static str,
     /// For an overturning: the longest fold of the crest's front, and how high its top
     /// stands above the floor, m (0 otherwise).
@@ -124,6 +131,11 @@ impl<'a> Frame<'a> {
         frame
     }
 
+    /// The profile's sample nearest to `x_m`.
+    pub(super) fn profile_index(&self, x_m: f64) -> usize {
+        self.profile.index(x_m)
+    }
+
     /// A length in samples (at least one).
     fn span(&self, m: f64) -> usize {
         ((m / self.profile.dx_m).round() as usize).max(1)
@@ -136,6 +148,60 @@ impl<'a> Frame<'a> {
             return false;
         };
         (a - b) / (self.face_span as f64 * profile.dx_m) > 3f64.sqrt()
+    }
+
+    /// Galvin's (1968) collapsing front, seen on the crest at sample `k` of a wave `height_m`
+    /// high over its trough at `trough_m` (m above the floor): the crest stays whole while the
+    /// lower face steepens. Walking down the front from the crest (up to 2 H ahead, until the
+    /// top rises again or the water ends): the upper face, down to half the height above the
+    /// trough, is nowhere steeper than 60° from one sample to the next, and the lower face
+    /// below it has a run of samples steeper than 60° that falls at least max(2 h, H/4) (two
+    /// particle spacings: a single edge of the surface is not a face). Returns that run's
+    /// fall, m, or 0 when the front is not such a face.
+    ///
+    /// A face steep from the crest down (a spilling crest's roller, a bore) is not a whole
+    /// crest; a face steep over ℓ_j anywhere is also the steep-face onset, and either way its
+    /// type comes from what follows ([`classify`]).
+    pub(super) fn steep_lower_face_m(&self, k: usize, trough_m: f64, height_m: f64) -> f64 {
+        let (s, profile) = (self.s, self.profile);
+        let mid_m = trough_m + 0.5 * height_m;
+        let tan60 = 3f64.sqrt();
+        let end = (k + self.span(2.0 * s.height_m)).min(self.k_max);
+        let mut run_top: Option<f64> = None;
+        let mut fall_m: f64 = 0.0;
+        for j in k..end {
+            let (Some(a), Some(b)) = (profile.top(j), profile.top(j + 1)) else {
+                break;
+            };
+            if b > a {
+                break;
+            }
+            let steep = (a - b) / profile.dx_m > tan60;
+            if a > mid_m {
+                if steep {
+                    return 0.0;
+                }
+                continue;
+            }
+            if steep {
+                let top = *run_top.get_or_insert(a);
+                fall_m = fall_m.max(top - b);
+            } else {
+                run_top = None;
+            }
+        }
+        if fall_m >= (2.0 * s.h).max(0.25 * height_m) {
+            fall_m
+        } else {
+            0.0
+        }
+    }
+
+    /// Whether the crest at sample `k` (flume `x`, over `depth` m of still water) has a steep
+    /// lower face under a whole crest, with its height over the trough behind it.
+    fn whole_crest_with_steep_lower_face(&self, k: usize, x: f64, depth: f64) -> bool {
+        let (crest, trough) = self.crest_and_trough(x, depth.max(0.0));
+        self.steep_lower_face_m(k, trough, crest - trough) > 0.0
     }
 
     /// Still-water depth at `x`, m (negative where the bed stands above the still level).
@@ -185,6 +251,8 @@ impl<'a> Frame<'a> {
             Some(onset("overturning", reach_near, top_near))
         } else if steep_near {
             Some(onset("steep_face", 0.0, 0.0))
+        } else if self.whole_crest_with_steep_lower_face(k, x, depth) {
+            Some(onset("steep_lower_face", 0.0, 0.0))
         } else if depth >= 0.5 * s.height_m && self.crest_is_fast(x, y, depth) {
             Some(onset("kinematic", 0.0, 0.0))
         } else {

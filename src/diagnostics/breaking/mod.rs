@@ -59,7 +59,9 @@ pub struct Breaker {
     /// Type decided from what follows the onset (see [`classify`]).
     pub observed: BreakerType,
     /// What triggered the onset: "kinematic" (crest particle faster than 0.85 c), "overturning"
-    /// (the surface folds over a vertical line) or "steep_face" (front steeper than 60°).
+    /// (the surface folds over a vertical line), "steep_face" (front steeper than 60° over
+    /// ℓ_j) or "steep_lower_face" (a whole crest whose lower face is steeper than 60°, see
+    /// `lower_face_fall_m`).
     pub onset: &'static str,
     /// Crest position at onset, flume x, m.
     pub x_b_m: f64,
@@ -79,6 +81,11 @@ pub struct Breaker {
     pub cavity: bool,
     /// The front was steeper than 60° at some time within half a period of the onset.
     pub steep_face: bool,
+    /// The longest fall of a lower face steeper than 60° under a whole crest within half a
+    /// period of the onset (Galvin's collapsing front: the upper face nowhere steeper than
+    /// 60°, the steep run below half the height above the trough and falling at least
+    /// max(2 h, H_b/4)), m; 0 when the front never did that.
+    pub lower_face_fall_m: f64,
     /// Where and when the front first folded over (a fold of 2 h or more by the followed
     /// crest) within half a period of the onset: the crest's flume x, m, its still depth, m,
     /// and the time, s. The same as the onset's when the onset was an overturning.
@@ -96,7 +103,9 @@ pub struct Breaker {
 ///   crest when its top stands in the upper half of the wave (`top_m`, above the trough, at
 ///   least 0.5 H_b), and folds low on the face otherwise;
 /// - offshore (h_b ≥ 0.5 H_b): plunging for a long fold from the crest, collapsing for a long
-///   fold low on the face, spilling otherwise;
+///   fold low on the face, collapsing without a long fold when the lower face of the whole
+///   crest steepened past 60° (`steep_lower_face`, see [`Breaker::lower_face_fall_m`]),
+///   spilling otherwise;
 /// - at the shoreline (h_b < 0.5 H_b): plunging for a long fold from the crest that traps air,
 ///   collapsing otherwise (the front steepened or folded where the water ends).
 pub fn classify(
@@ -105,14 +114,15 @@ pub fn classify(
     reach_m: f64,
     top_m: f64,
     cavity: bool,
+    steep_lower_face: bool,
 ) -> BreakerType {
     let long = reach_m >= 0.5 * height_b_m;
     let from_crest = top_m >= 0.5 * height_b_m;
     if h_b_m >= 0.5 * height_b_m {
-        match (long, from_crest) {
-            (true, true) => BreakerType::Plunging,
-            (true, false) => BreakerType::Collapsing,
-            (false, _) => BreakerType::Spilling,
+        match (long, from_crest, steep_lower_face) {
+            (true, true, _) => BreakerType::Plunging,
+            (true, false, _) | (false, _, true) => BreakerType::Collapsing,
+            (false, _, false) => BreakerType::Spilling,
         }
     } else if cavity && long && from_crest {
         BreakerType::Plunging
@@ -474,6 +484,7 @@ impl BreakingDetector {
             },
             cavity: false,
             steep_face: trigger == "steep_face",
+            lower_face_fall_m: f.steep_lower_face_m(f.profile_index(x_b), trough, crest - trough),
             fold_x_m: overturning.then_some(x_b),
             fold_h_m: overturning.then_some(depth),
             fold_t_s: overturning.then_some(t),
@@ -575,13 +586,14 @@ impl BreakingDetector {
 /// The event of a classified breaker.
 fn classified_event(b: &Breaker) -> String {
     format!(
-        "breaker at t = {:.2} s classified {}: jet reach {:.3} m, its top {:.3} m above the trough, air cavity {}, front steeper than 60°: {}",
+        "breaker at t = {:.2} s classified {}: jet reach {:.3} m, its top {:.3} m above the trough, air cavity {}, front steeper than 60°: {}, steep lower face under a whole crest: {:.3} m",
         b.t_b_s,
         b.observed.name(),
         b.overturn_reach_m,
         b.overturn_top_m,
         if b.cavity { "yes" } else { "no" },
         if b.steep_face { "yes" } else { "no" },
+        b.lower_face_fall_m,
     )
 }
 

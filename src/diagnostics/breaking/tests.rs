@@ -477,13 +477,13 @@ fn a_whole_crest_whose_lower_face_folds_is_collapsing() {
 /// 0.4 H_b above the trough), and its lower face steepens to 76° (tan 4) and falls, 5 cm
 /// down to the trough, with no overturned part; the water of the crest moves at 0.7 c.
 ///
-/// The detector does not see it break: a face steeper than 60° counts only over ℓ_j =
-/// 4 cm, a fall of 6.9 cm (0.55 H_b) there, taller than the lower face; there is no fold and
-/// the crest is slow. With no breaker and the tip running up 0.05 m (over H/4) the run is
-/// `surging`. (With a kinematic or steep-face onset it would be `spilling` offshore, h_b ≥
-/// 0.5 H_b, for want of a long fold; at the shoreline `collapsing`.)
+/// The older signs miss it: a face steeper than 60° counts over ℓ_j = 4 cm, a fall of
+/// 6.9 cm (0.55 H_b) there, taller than the lower face; there is no fold; the crest is slow.
+/// The whole crest's steep lower face is its own sign (`Frame::steep_lower_face_m`): the
+/// upper face nowhere steeper than 60°, below half the height a run of samples at 76°
+/// falling 5 cm (over max(2 h, H_b/4) = 4 cm). Each wave's onset is that face, and with no
+/// long fold in 15 cm of water (h_b ≥ 0.5 H_b) the breaker is collapsing, not spilling.
 #[test]
-#[ignore = "the rules see no breaking in a lower face that steepens and falls without folding (issue 23, item 4)"]
 fn a_whole_crest_whose_lower_face_steepens_and_falls_without_folding_is_collapsing() {
     let train = Train {
         x_b_m: 8.1,
@@ -503,8 +503,22 @@ fn a_whole_crest_whose_lower_face_steepens_and_falls_without_folding_is_collapsi
     };
     let (detector, events) = train.run();
     println!("{events:#?}");
-    let summary = detector.summary(0.0, 0.0).unwrap();
-    assert_eq!(summary.observed, "collapsing", "{:#?}", detector.breakers);
+    let summary = assert_four_breakers_of(&detector, BreakerType::Collapsing);
+    for b in &detector.breakers {
+        assert_eq!(b.onset, "steep_lower_face", "{b:?}");
+        assert_eq!(b.overturn_reach_m, 0.0, "{b:?}");
+        // The 5 cm face, plus at most one sample of the upper face above its kink
+        // (0.01 m at tan 22° = 0.0041 m) where the first steep step starts.
+        assert!(
+            b.lower_face_fall_m >= 0.05 - 1e-9 && b.lower_face_fall_m <= 0.0542,
+            "{b:?}"
+        );
+        assert!((b.h_b_m - 0.15).abs() < 1e-6, "{b:?}");
+    }
+    println!(
+        "steep lower face fall {:.4} m, observed {}",
+        detector.breakers[0].lower_face_fall_m, summary.observed
+    );
 }
 
 /// Surging: the same crests run up the beach without breaking, the shoreline tip climbing
@@ -563,6 +577,7 @@ fn a_low_onset_on_a_surging_wave_is_not_the_wave_breaking() {
         overturn_top_m: 0.02,
         cavity: false,
         steep_face: true,
+        lower_face_fall_m: 0.0,
         fold_x_m: None,
         fold_h_m: None,
         fold_t_s: None,
