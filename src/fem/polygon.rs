@@ -220,6 +220,7 @@ fn star_triangle(a: Vector2<f64>, b: Vector2<f64>) -> Option<(f64, f64)> {
 /// Delaunay (α + β > π); when none is, the star (whose outer edges are the polygon's, on the
 /// hull) is the Delaunay triangulation of the nodes and x, every node is a natural neighbour of
 /// x, and these are the Laplace weights the clipped cell would give.
+#[inline(always)]
 fn full_star_weights(nodes: &[Vector2<f64>], x: Vector2<f64>, out: &mut [f64]) -> Option<f64> {
     let n = nodes.len();
     let mut total = 0.0;
@@ -408,13 +409,36 @@ pub fn polygon_element_into(nodes: &[Vector2<f64>], element: &mut PolygonElement
 const STACK_ELEMENT_NODES: usize = 8;
 
 /// The fan cells of a polygon of n ≥ 4 nodes, with scratch buffers of n and n² values.
+///
+/// The body is inlined once per polygon size the EDT builds (4 to
+/// [`crate::mesh::edt::MAX_POLYGON_NODES`]), so that its loops have constant trip counts and
+/// are unrolled (see `solver::element_set::with_size`).
 fn fan_cells(
     nodes: &[Vector2<f64>],
     local: &mut [Vector2<f64>],
     spoke_mid: &mut [f64],
     element: &mut PolygonElement,
 ) {
-    let n = nodes.len();
+    match nodes.len() {
+        4 => fan_cells_of(4, nodes, local, spoke_mid, element),
+        5 => fan_cells_of(5, nodes, local, spoke_mid, element),
+        6 => fan_cells_of(6, nodes, local, spoke_mid, element),
+        7 => fan_cells_of(7, nodes, local, spoke_mid, element),
+        8 => fan_cells_of(8, nodes, local, spoke_mid, element),
+        n => fan_cells_of(n, nodes, local, spoke_mid, element),
+    }
+}
+
+/// [`fan_cells`] for n nodes (a constant at each call site above).
+#[inline(always)]
+fn fan_cells_of(
+    n: usize,
+    nodes: &[Vector2<f64>],
+    local: &mut [Vector2<f64>],
+    spoke_mid: &mut [f64],
+    element: &mut PolygonElement,
+) {
+    let (nodes, local, spoke_mid) = (&nodes[..n], &mut local[..n], &mut spoke_mid[..n * n]);
     // Everything is computed relative to the centre, so that the element's precision does
     // not depend on where it sits in the flume.
     let centre = nodes.iter().sum::<Vector2<f64>>() / n as f64;
@@ -430,22 +454,27 @@ fn fan_cells(
     // Outward normal times length of an edge traversed counter-clockwise: (e_y, −e_x).
     let outward = |e: Vector2<f64>| Vector2::new(e.y, -e.x);
     element.node_weight.resize(n, 0.0);
+    element.cell_area.resize(n, 0.0);
+    element.cell_grad.resize(n * n, Vector2::zeros());
+    element.cell_weight.resize(n * n, 0.0);
     for k in 0..n {
         let next = (k + 1) % n;
         let (a, b) = (local[k], local[next]);
         let area = 0.5 * a.perp(&b);
-        element.cell_area.push(area);
+        element.cell_area[k] = area;
         // The cell's boundary: spoke k outwards, the polygon edge, spoke k + 1 inwards.
         let (out_k, out_edge, out_next) = (outward(a), outward(b - a), outward(-b));
+        let grads = &mut element.cell_grad[k * n..(k + 1) * n];
+        let weights = &mut element.cell_weight[k * n..(k + 1) * n];
         for i in 0..n {
             // N_i on the polygon edge: its mean there, and its value at the edge's midpoint.
             let on_edge = if i == k || i == next { 0.5 } else { 0.0 };
             let flux = out_k * spoke_mid[k * n + i]
                 + out_edge * on_edge
                 + out_next * spoke_mid[next * n + i];
-            element.cell_grad.push(flux / area);
+            grads[i] = flux / area;
             let weight = area / 3.0 * (on_edge + spoke_mid[k * n + i] + spoke_mid[next * n + i]);
-            element.cell_weight.push(weight);
+            weights[i] = weight;
             element.node_weight[i] += weight;
         }
     }
@@ -453,6 +482,7 @@ fn fan_cells(
 
 /// Laplace coordinates at a point known to be strictly inside the polygon: the full star when
 /// every node is a natural neighbour (no clipping), [`laplace_coordinates`] otherwise.
+#[inline(always)]
 fn interior_coordinates(nodes: &[Vector2<f64>], x: Vector2<f64>, out: &mut [f64]) {
     out.fill(0.0);
     match full_star_weights(nodes, x, out) {

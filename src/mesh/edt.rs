@@ -399,14 +399,22 @@ fn union(parent: &mut [u32], size: &mut [u32], a: u32, b: u32) {
 /// area of its triangles.
 fn convex_with_area(position: &[Vector2<f64>], nodes: &[u32], area_m2: f64) -> bool {
     let n = nodes.len();
-    let at = |k: usize| position[nodes[k % n] as usize];
+    let mut corner = [Vector2::zeros(); MAX_POLYGON_NODES];
+    let Some(corner) = corner.get_mut(..n) else {
+        return false;
+    };
+    for (c, &i) in corner.iter_mut().zip(nodes) {
+        *c = position[i as usize];
+    }
+    // The next node around the loop, without a division.
+    let after = |k: usize| if k + 1 == n { 0 } else { k + 1 };
     let longest2 = (0..n)
-        .map(|k| (at(k + 1) - at(k)).norm_squared())
+        .map(|k| (corner[after(k)] - corner[k]).norm_squared())
         .fold(0.0, f64::max);
-    let origin = at(0);
+    let origin = corner[0];
     let mut twice_area = 0.0;
     for k in 0..n {
-        let (a, b, c) = (at(k), at(k + 1), at(k + 2));
+        let (a, b, c) = (corner[k], corner[after(k)], corner[after(after(k))]);
         // Written so that a NaN turn is refused too.
         let left_or_straight = (b - a).perp(&(c - b)) >= -CONVEX_TOLERANCE * longest2;
         if !left_or_straight {

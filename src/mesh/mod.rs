@@ -290,8 +290,9 @@ pub fn alpha_shape(
     mesh.in_mesh.resize(n, false);
 
     // EDT: the polygons of the candidates, and each candidate's radius for the α test.
+    // Not cleared: `merge_into` rewrites the entries it needs and keeps their vectors (a
+    // cleared list made two allocations per polygon every step).
     let mut polygons = std::mem::take(&mut mesh.merged);
-    polygons.clear();
     if shape.delta > 0.0 {
         mesh.candidate_nodes.clear();
         mesh.candidate_nodes
@@ -302,6 +303,8 @@ pub fn alpha_shape(
             shape.delta,
             &mut polygons,
         );
+    } else {
+        polygons.clear();
     }
     // Per candidate (only when there are polygons): its polygon, and its index among the kept
     // triangles if kept.

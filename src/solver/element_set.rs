@@ -74,7 +74,19 @@ pub(super) struct Cell<'a> {
     weight: &'a [f64],
 }
 
-impl Cell<'_> {
+impl<'a> Cell<'a> {
+    /// The same cell with its slices cut to `n` nodes (its element's count; see
+    /// [`with_size`]).
+    #[inline(always)]
+    pub fn sized(&self, n: usize) -> Cell<'a> {
+        Cell {
+            nodes: &self.nodes[..n],
+            area: self.area,
+            grad: &self.grad[..n],
+            weight: &self.weight[..n],
+        }
+    }
+
     /// The node indices as `usize`.
     #[inline]
     pub fn node(&self, a: usize) -> usize {
@@ -114,16 +126,18 @@ impl Cell<'_> {
     }
 
     /// ∇u on the cell, G[(a, b)] = ∂u_a/∂x_b.
-    #[inline]
+    #[inline(always)]
     pub fn velocity_gradient(&self, u: impl Fn(usize) -> Vector2<f64>) -> Matrix2<f64> {
         if self.nodes.len() == 3 {
             u(self.node(0)) * self.grad[0].transpose()
                 + u(self.node(1)) * self.grad[1].transpose()
                 + u(self.node(2)) * self.grad[2].transpose()
         } else {
-            (0..self.nodes.len())
-                .map(|a| u(self.node(a)) * self.grad[a].transpose())
-                .sum()
+            let mut g = Matrix2::zeros();
+            for a in 0..self.nodes.len() {
+                g += u(self.node(a)) * self.grad[a].transpose();
+            }
+            g
         }
     }
 
@@ -153,6 +167,21 @@ pub(super) fn polygon_boundary<'a>(
     })
 }
 
+/// Calls `f(n)` with `n` a constant in each arm for the polygon sizes the EDT builds (4 to
+/// [`crate::mesh::edt::MAX_POLYGON_NODES`]), so that a kernel inlined into it has constant loop
+/// bounds and is unrolled (the polygon kernels' generic loops were most of δ's cost).
+#[inline(always)]
+pub(super) fn with_size<R>(n: usize, f: impl FnOnce(usize) -> R) -> R {
+    match n {
+        4 => f(4),
+        5 => f(5),
+        6 => f(6),
+        7 => f(7),
+        8 => f(8),
+        _ => f(n),
+    }
+}
+
 /// The operators of a polygon element (see `ElementSet::op_start`), local node a at row a.
 pub(super) struct PolygonOperators<'a> {
     pub nodes: &'a [u32],
@@ -164,33 +193,62 @@ pub(super) struct PolygonOperators<'a> {
     pub node_w: &'a [f64],
 }
 
-impl PolygonOperators<'_> {
+impl<'a> PolygonOperators<'a> {
     pub fn len(&self) -> usize {
         self.nodes.len()
     }
 
+    /// The same operators with every slice cut to `n` nodes (the element's own count), so that
+    /// inside [`with_size`] their lengths are constants.
+    #[inline(always)]
+    pub fn sized(&self, n: usize) -> PolygonOperators<'a> {
+        PolygonOperators {
+            nodes: &self.nodes[..n],
+            lap: &self.lap[..n * n],
+            gop: &self.gop[..n * n],
+            node_w: &self.node_w[..n],
+        }
+    }
+
+    #[inline(always)]
     pub fn node(&self, a: usize) -> usize {
         self.nodes[a] as usize
     }
 
+    // The rows below are plain loops rather than iterator sums: inside `with_size` they then
+    // inline and unroll completely (an iterator's `fold` stayed an out-of-line call per row).
+
     /// Σ_b L_ab f_b.
+    #[inline(always)]
     pub fn lap_row(&self, a: usize, f: impl Fn(usize) -> f64) -> f64 {
         let n = self.len();
-        (0..n).map(|b| self.lap[a * n + b] * f(self.node(b))).sum()
+        let mut sum = 0.0;
+        for b in 0..n {
+            sum += self.lap[a * n + b] * f(self.node(b));
+        }
+        sum
     }
 
     /// Σ_b G_ab f_b = ∫ N_a ∇f.
+    #[inline(always)]
     pub fn gradient_row(&self, a: usize, f: impl Fn(usize) -> f64) -> Vector2<f64> {
         let n = self.len();
-        (0..n).map(|b| self.gop[a * n + b] * f(self.node(b))).sum()
+        let mut sum = Vector2::zeros();
+        for b in 0..n {
+            sum += self.gop[a * n + b] * f(self.node(b));
+        }
+        sum
     }
 
     /// Σ_b G_ba·v_b = ∫ ∇N_a·v (v interpolated).
+    #[inline(always)]
     pub fn divergence_row(&self, a: usize, v: impl Fn(usize) -> Vector2<f64>) -> f64 {
         let n = self.len();
-        (0..n)
-            .map(|b| self.gop[b * n + a].dot(&v(self.node(b))))
-            .sum()
+        let mut sum = 0.0;
+        for b in 0..n {
+            sum += self.gop[b * n + a].dot(&v(self.node(b)));
+        }
+        sum
     }
 }
 
@@ -309,33 +367,47 @@ impl ElementSet {
 
     /// Adds the next element's polygon cells and its operators.
     pub fn push_polygon(&mut self, p: &fem::polygon::PolygonElement) {
-        let n = p.node_weight.len();
+        with_size(
+            p.node_weight.len(),
+            #[inline(always)]
+            |n| self.push_polygon_of(n, p),
+        );
+    }
+
+    /// [`ElementSet::push_polygon`] for n nodes: the vectors are grown once and written by
+    /// index.
+    #[inline(always)]
+    fn push_polygon_of(&mut self, n: usize, p: &fem::polygon::PolygonElement) {
+        let cells = p.cell_area.len();
         let (op, start) = (self.lap.len(), self.node_w.len());
         self.op_start.push(op as u32);
         self.w_start.push(start as u32);
         self.lap.resize(op + n * n, 0.0);
         self.gop.resize(op + n * n, Vector2::zeros());
         self.node_w.resize(start + n, 0.0);
+        let (first_cell, first_value) = (self.area.len(), self.grad.len());
+        self.area.resize(first_cell + cells, 0.0);
+        self.grad.extend_from_slice(&p.cell_grad[..cells * n]);
+        self.weight.resize(first_value + cells * n, 0.0);
+        self.value_start
+            .extend((1..=cells).map(|c| (first_value + c * n) as u32));
         let lap = &mut self.lap[op..op + n * n];
         let gop = &mut self.gop[op..op + n * n];
         let node_w = &mut self.node_w[start..start + n];
-        let cells = p
-            .cell_area
-            .iter()
-            .zip(p.cell_grad.chunks_exact(n))
-            .zip(p.cell_weight.chunks_exact(n));
-        for ((&signed_area, grad), weight) in cells {
+        for c in 0..cells {
             // As for a triangle: on the moved geometry of `geometry_theta` a thin cell may have
             // turned over; its smoothed gradients (flux over signed area) stay right.
+            let signed_area = p.cell_area[c];
             let area = signed_area.abs();
-            self.area.push(area);
-            self.grad.extend_from_slice(grad);
+            self.area[first_cell + c] = area;
+            let grad = &p.cell_grad[c * n..(c + 1) * n];
             // The cell means of the shape functions, ∫_cell N_i / A_cell.
-            let (mean_start, per_area) = (self.weight.len(), 1.0 / signed_area);
-            self.weight.extend(weight.iter().map(|w| w * per_area));
-            self.value_start.push(self.grad.len() as u32);
+            let per_area = 1.0 / signed_area;
+            let mean = &mut self.weight[first_value + c * n..first_value + (c + 1) * n];
+            for (m, w) in mean.iter_mut().zip(&p.cell_weight[c * n..(c + 1) * n]) {
+                *m = w * per_area;
+            }
             // The operators (positive areas, cell means); L is symmetric.
-            let mean = &self.weight[mean_start..];
             for a in 0..n {
                 let (b_a, w_a) = (grad[a], area * mean[a]);
                 node_w[a] += w_a;
@@ -346,8 +418,8 @@ impl ElementSet {
                         lap[b * n + a] += l;
                     }
                 }
-                for (g, b_b) in gop[a * n..(a + 1) * n].iter_mut().zip(grad) {
-                    *g += b_b * w_a;
+                for b in 0..n {
+                    gop[a * n + b] += grad[b] * w_a;
                 }
             }
         }

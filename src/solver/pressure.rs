@@ -36,7 +36,7 @@
 //! thread, which works while this one computes the element properties, the predictor and the
 //! matrix values.
 
-use super::element_set::{ElementSet, PolygonOperators, polygon_boundary};
+use super::element_set::{ElementSet, PolygonOperators, polygon_boundary, with_size};
 use super::{Solver, StepError};
 use crate::case::PressureSolver;
 use crate::mesh::edt::MAX_POLYGON_NODES;
@@ -392,7 +392,11 @@ impl Solver {
                     tau,
                     area_correction: self.params.settings.area_correction,
                 };
-                assemble_polygon(sys, e, &ops, &self.cells, &fields);
+                with_size(
+                    ops.len(),
+                    #[inline(always)]
+                    |n| assemble_polygon(sys, e, &ops.sized(n), &self.cells, &fields),
+                );
                 continue;
             }
             for cell in self.cells.cells(e) {
@@ -578,6 +582,7 @@ struct PolygonFields<'a> {
 /// (Δt/ρ + τ) L, and on the right −∫ N_a ∇·ũ = −∮ N_a ũ·n + ∫ ∇N_a·ũ, the divergence target
 /// W_a s_a, the flux γ (Δt/ρ) L pⁿ − τ ∫ ∇N_a·π, and with `area_correction` the strong
 /// −∫ N_a Δt det ∇ũ of each cell.
+#[inline(always)]
 fn assemble_polygon(
     sys: &mut PressureSystem,
     e: usize,
