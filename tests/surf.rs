@@ -7,7 +7,7 @@
 
 mod common;
 
-use surflab::diagnostics::breaking::classify;
+use surflab::diagnostics::breaking::{BreakerFeatures, classify};
 use surflab::diagnostics::surface::surface_profile;
 use surflab::simulation::Simulation;
 use surflab::waves::breaker::{BreakerType, iribarren, predicted_type};
@@ -91,68 +91,138 @@ fn an_enclosed_air_pocket_is_a_cavity_not_a_fold() {
 
 #[test]
 fn breaker_rules() {
-    let hb = 0.2;
+    let base = BreakerFeatures {
+        height_b_m: 0.2,
+        ..Default::default()
+    };
     // Offshore of the shoreline (h_b ≥ H_b / 2): the fold's reach decides, and where on the
     // wave it starts.
     assert_eq!(
-        classify(0.3, hb, 0.0, 0.0, false, false),
+        classify(&BreakerFeatures { h_b_m: 0.3, ..base }),
         BreakerType::Spilling
     );
     assert_eq!(
-        classify(0.3, hb, 0.099, 0.18, true, false),
+        classify(&BreakerFeatures {
+            h_b_m: 0.3,
+            reach_m: 0.099,
+            top_m: 0.18,
+            cavity: true,
+            ..base
+        }),
         BreakerType::Spilling
     );
     assert_eq!(
-        classify(0.3, hb, 0.101, 0.18, false, false),
+        classify(&BreakerFeatures {
+            h_b_m: 0.3,
+            reach_m: 0.101,
+            top_m: 0.18,
+            ..base
+        }),
         BreakerType::Plunging
     );
     assert_eq!(
-        classify(0.1, hb, 0.2, 0.15, true, false),
+        classify(&BreakerFeatures {
+            h_b_m: 0.1,
+            reach_m: 0.2,
+            top_m: 0.15,
+            cavity: true,
+            ..base
+        }),
         BreakerType::Plunging
     );
     // A long fold low on the face: the front collapses, the crest does not plunge.
     assert_eq!(
-        classify(0.3, hb, 0.15, 0.099, false, false),
+        classify(&BreakerFeatures {
+            h_b_m: 0.3,
+            reach_m: 0.15,
+            top_m: 0.099,
+            ..base
+        }),
         BreakerType::Collapsing
     );
     assert_eq!(
-        classify(0.3, hb, 0.15, 0.101, false, false),
+        classify(&BreakerFeatures {
+            h_b_m: 0.3,
+            reach_m: 0.15,
+            top_m: 0.101,
+            ..base
+        }),
         BreakerType::Plunging
     );
     // No long fold, but the lower face of the whole crest steepened past 60°: collapsing
     // (Galvin); a long fold from the crest still plunges.
     assert_eq!(
-        classify(0.3, hb, 0.0, 0.0, false, true),
+        classify(&BreakerFeatures {
+            h_b_m: 0.3,
+            steep_lower_face: true,
+            ..base
+        }),
         BreakerType::Collapsing
     );
     assert_eq!(
-        classify(0.3, hb, 0.099, 0.18, true, true),
+        classify(&BreakerFeatures {
+            h_b_m: 0.3,
+            reach_m: 0.099,
+            top_m: 0.18,
+            cavity: true,
+            steep_lower_face: true,
+            ..base
+        }),
         BreakerType::Collapsing
     );
     assert_eq!(
-        classify(0.3, hb, 0.15, 0.101, false, true),
+        classify(&BreakerFeatures {
+            h_b_m: 0.3,
+            reach_m: 0.15,
+            top_m: 0.101,
+            steep_lower_face: true,
+            ..base
+        }),
         BreakerType::Plunging
     );
     // At the shoreline: a long jet from the crest that traps air plunges, anything else
     // collapses.
     assert_eq!(
-        classify(0.05, hb, 0.1, 0.15, true, false),
+        classify(&BreakerFeatures {
+            h_b_m: 0.05,
+            reach_m: 0.1,
+            top_m: 0.15,
+            cavity: true,
+            ..base
+        }),
         BreakerType::Plunging
     );
     assert_eq!(
-        classify(0.05, hb, 0.1, 0.05, true, false),
+        classify(&BreakerFeatures {
+            h_b_m: 0.05,
+            reach_m: 0.1,
+            top_m: 0.05,
+            cavity: true,
+            ..base
+        }),
         BreakerType::Collapsing
     );
     assert_eq!(
-        classify(0.05, hb, 0.1, 0.15, false, false),
+        classify(&BreakerFeatures {
+            h_b_m: 0.05,
+            reach_m: 0.1,
+            top_m: 0.15,
+            ..base
+        }),
         BreakerType::Collapsing
     );
     assert_eq!(
-        classify(0.05, hb, 0.02, 0.15, true, false),
+        classify(&BreakerFeatures {
+            h_b_m: 0.05,
+            reach_m: 0.02,
+            top_m: 0.15,
+            cavity: true,
+            ..base
+        }),
         BreakerType::Collapsing
     );
     assert_eq!(
-        classify(0.0, hb, 0.0, 0.0, false, false),
+        classify(&BreakerFeatures { h_b_m: 0.0, ..base }),
         BreakerType::Collapsing
     );
 }

@@ -1,7 +1,7 @@
 //! One output frame as the breaker detector sees it: the overturned runs of the surface, its
 //! steep faces, its most seaward breaking crest, and the watched breaker followed through it.
 
-use super::{BeachSetup, Breaker, FlumeState, Watch, classify};
+use super::{BeachSetup, Breaker, BreakerFeatures, FlumeState, Watch, classify};
 use crate::diagnostics::surface::{SurfaceProfile, follow_crest};
 
 impl Watch {
@@ -66,14 +66,14 @@ impl Watch {
     /// The watched breaker with its type decided from what it did (see [`classify`]).
     pub(super) fn classified(&self) -> Breaker {
         let mut b = self.breaker;
-        b.observed = classify(
-            b.h_b_m,
-            b.height_b_m,
-            b.overturn_reach_m,
-            b.overturn_top_m,
-            b.cavity,
-            b.lower_face_fall_m > 0.0,
-        );
+        b.observed = classify(&BreakerFeatures {
+            h_b_m: b.h_b_m,
+            height_b_m: b.height_b_m,
+            reach_m: b.overturn_reach_m,
+            top_m: b.overturn_top_m,
+            cavity: b.cavity,
+            steep_lower_face: b.lower_face_fall_m > 0.0,
+        });
         b
     }
 }

@@ -94,6 +94,23 @@ pub struct Breaker {
     pub fold_t_s: Option<f64>,
 }
 
+/// What [`classify`] reads of a breaker (the fields of [`Breaker`] it comes from in brackets).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct BreakerFeatures {
+    /// Still depth under the crest at the onset, m (`h_b_m`).
+    pub h_b_m: f64,
+    /// Crest height above the trough at the onset, m (`height_b_m`).
+    pub height_b_m: f64,
+    /// Longest fold of the front, m (`overturn_reach_m`).
+    pub reach_m: f64,
+    /// How high the fold's top stood above the trough, m (`overturn_top_m`).
+    pub top_m: f64,
+    /// The fold closed over air (`cavity`).
+    pub cavity: bool,
+    /// The lower face of the whole crest steepened and fell (`lower_face_fall_m` > 0).
+    pub steep_lower_face: bool,
+}
+
 /// Surf-zone features of a breaker, to a type. Thresholds (method.md §6, with h_b / H_b
 /// separating breaking offshore of the shoreline from breaking on it, and Galvin's (1968)
 /// description of a collapsing breaker: the crest stays whole while the lower face steepens
@@ -108,23 +125,16 @@ pub struct Breaker {
 ///   spilling otherwise;
 /// - at the shoreline (h_b < 0.5 H_b): plunging for a long fold from the crest that traps air,
 ///   collapsing otherwise (the front steepened or folded where the water ends).
-pub fn classify(
-    h_b_m: f64,
-    height_b_m: f64,
-    reach_m: f64,
-    top_m: f64,
-    cavity: bool,
-    steep_lower_face: bool,
-) -> BreakerType {
-    let long = reach_m >= 0.5 * height_b_m;
-    let from_crest = top_m >= 0.5 * height_b_m;
-    if h_b_m >= 0.5 * height_b_m {
-        match (long, from_crest, steep_lower_face) {
+pub fn classify(f: &BreakerFeatures) -> BreakerType {
+    let long = f.reach_m >= 0.5 * f.height_b_m;
+    let from_crest = f.top_m >= 0.5 * f.height_b_m;
+    if f.h_b_m >= 0.5 * f.height_b_m {
+        match (long, from_crest, f.steep_lower_face) {
             (true, true, _) => BreakerType::Plunging,
             (true, false, _) | (false, _, true) => BreakerType::Collapsing,
             (false, _, false) => BreakerType::Spilling,
         }
-    } else if cavity && long && from_crest {
+    } else if f.cavity && long && from_crest {
         BreakerType::Plunging
     } else {
         BreakerType::Collapsing
