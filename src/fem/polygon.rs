@@ -394,14 +394,46 @@ pub fn polygon_element_into(nodes: &[Vector2<f64>], element: &mut PolygonElement
         element.node_weight.extend_from_slice(&[third; 3]);
         return;
     }
+    element.cell_area.resize(n, 0.0);
+    element.cell_grad.resize(n * n, Vector2::zeros());
+    element.cell_weight.resize(n * n, 0.0);
+    element.node_weight.resize(n, 0.0);
+    fan_cells_into(
+        nodes,
+        FanCells {
+            area: &mut element.cell_area,
+            grad: &mut element.cell_grad,
+            weight: &mut element.cell_weight,
+            node_weight: &mut element.node_weight,
+        },
+    );
+}
+
+/// Where [`fan_cells_into`] writes the cells of a polygon of n ≥ 4 nodes: n cells (the fan
+/// around the mean of the nodes), cell k's values for node i at `k * n + i`.
+pub struct FanCells<'a> {
+    /// Signed area of each cell, m² (length n).
+    pub area: &'a mut [f64],
+    /// Smoothed gradient of each shape function on each cell, 1/m (length n²).
+    pub grad: &'a mut [Vector2<f64>],
+    /// ∫ N_i dA over each cell, m² (length n²).
+    pub weight: &'a mut [f64],
+    /// ∫ N_i dA over the polygon, m² (length n; overwritten).
+    pub node_weight: &'a mut [f64],
+}
+
+/// The cells of [`polygon_element`] for a polygon of n ≥ 4 nodes, written into the caller's
+/// slices (the solver's element set writes them in place, without an intermediate element).
+pub fn fan_cells_into(nodes: &[Vector2<f64>], out: FanCells) {
+    let n = nodes.len();
     if n > STACK_ELEMENT_NODES {
         let mut spoke_mid = vec![0.0; n * n];
         let mut local = vec![Vector2::zeros(); n];
-        fan_cells(nodes, &mut local, &mut spoke_mid, element);
+        fan_cells(nodes, &mut local, &mut spoke_mid, out);
     } else {
         let mut spoke_mid = [0.0; STACK_ELEMENT_NODES * STACK_ELEMENT_NODES];
         let mut local = [Vector2::zeros(); STACK_ELEMENT_NODES];
-        fan_cells(nodes, &mut local[..n], &mut spoke_mid[..n * n], element);
+        fan_cells(nodes, &mut local[..n], &mut spoke_mid[..n * n], out);
     }
 }
 
@@ -417,15 +449,15 @@ fn fan_cells(
     nodes: &[Vector2<f64>],
     local: &mut [Vector2<f64>],
     spoke_mid: &mut [f64],
-    element: &mut PolygonElement,
+    out: FanCells,
 ) {
     match nodes.len() {
-        4 => fan_cells_of(4, nodes, local, spoke_mid, element),
-        5 => fan_cells_of(5, nodes, local, spoke_mid, element),
-        6 => fan_cells_of(6, nodes, local, spoke_mid, element),
-        7 => fan_cells_of(7, nodes, local, spoke_mid, element),
-        8 => fan_cells_of(8, nodes, local, spoke_mid, element),
-        n => fan_cells_of(n, nodes, local, spoke_mid, element),
+        4 => fan_cells_of(4, nodes, local, spoke_mid, out),
+        5 => fan_cells_of(5, nodes, local, spoke_mid, out),
+        6 => fan_cells_of(6, nodes, local, spoke_mid, out),
+        7 => fan_cells_of(7, nodes, local, spoke_mid, out),
+        8 => fan_cells_of(8, nodes, local, spoke_mid, out),
+        n => fan_cells_of(n, nodes, local, spoke_mid, out),
     }
 }
 
@@ -436,9 +468,16 @@ fn fan_cells_of(
     nodes: &[Vector2<f64>],
     local: &mut [Vector2<f64>],
     spoke_mid: &mut [f64],
-    element: &mut PolygonElement,
+    out: FanCells,
 ) {
     let (nodes, local, spoke_mid) = (&nodes[..n], &mut local[..n], &mut spoke_mid[..n * n]);
+    let (cell_area, cell_grad, cell_weight, node_weight) = (
+        &mut out.area[..n],
+        &mut out.grad[..n * n],
+        &mut out.weight[..n * n],
+        &mut out.node_weight[..n],
+    );
+    node_weight.fill(0.0);
     // Everything is computed relative to the centre, so that the element's precision does
     // not depend on where it sits in the flume.
     let centre = nodes.iter().sum::<Vector2<f64>>() / n as f64;
@@ -453,19 +492,15 @@ fn fan_cells_of(
     }
     // Outward normal times length of an edge traversed counter-clockwise: (e_y, −e_x).
     let outward = |e: Vector2<f64>| Vector2::new(e.y, -e.x);
-    element.node_weight.resize(n, 0.0);
-    element.cell_area.resize(n, 0.0);
-    element.cell_grad.resize(n * n, Vector2::zeros());
-    element.cell_weight.resize(n * n, 0.0);
     for k in 0..n {
         let next = (k + 1) % n;
         let (a, b) = (local[k], local[next]);
         let area = 0.5 * a.perp(&b);
-        element.cell_area[k] = area;
+        cell_area[k] = area;
         // The cell's boundary: spoke k outwards, the polygon edge, spoke k + 1 inwards.
         let (out_k, out_edge, out_next) = (outward(a), outward(b - a), outward(-b));
-        let grads = &mut element.cell_grad[k * n..(k + 1) * n];
-        let weights = &mut element.cell_weight[k * n..(k + 1) * n];
+        let grads = &mut cell_grad[k * n..(k + 1) * n];
+        let weights = &mut cell_weight[k * n..(k + 1) * n];
         for i in 0..n {
             // N_i on the polygon edge: its mean there, and its value at the edge's midpoint.
             let on_edge = if i == k || i == next { 0.5 } else { 0.0 };
@@ -475,7 +510,7 @@ fn fan_cells_of(
             grads[i] = flux / area;
             let weight = area / 3.0 * (on_edge + spoke_mid[k * n + i] + spoke_mid[next * n + i]);
             weights[i] = weight;
-            element.node_weight[i] += weight;
+            node_weight[i] += weight;
         }
     }
 }

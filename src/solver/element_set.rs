@@ -365,20 +365,22 @@ impl ElementSet {
         self.w_start.push(NONE);
     }
 
-    /// Adds the next element's polygon cells and its operators.
-    pub fn push_polygon(&mut self, p: &fem::polygon::PolygonElement) {
+    /// Adds the next element, the polygon of the nodes at `x` (counter-clockwise, 4 to
+    /// [`crate::mesh::edt::MAX_POLYGON_NODES`] of them): its fan cells (`fem::polygon`), written
+    /// in place, and its operators. Writes ∫ N_i over the polygon into `node_weight` (length n)
+    /// and returns the sum of the cells' signed areas, m².
+    pub fn push_polygon(&mut self, x: &[Vector2<f64>], node_weight: &mut [f64]) -> f64 {
         with_size(
-            p.node_weight.len(),
+            x.len(),
             #[inline(always)]
-            |n| self.push_polygon_of(n, p),
-        );
+            |n| self.push_polygon_of(n, x, node_weight),
+        )
     }
 
     /// [`ElementSet::push_polygon`] for n nodes: the vectors are grown once and written by
     /// index.
     #[inline(always)]
-    fn push_polygon_of(&mut self, n: usize, p: &fem::polygon::PolygonElement) {
-        let cells = p.cell_area.len();
+    fn push_polygon_of(&mut self, n: usize, x: &[Vector2<f64>], node_weight: &mut [f64]) -> f64 {
         let (op, start) = (self.lap.len(), self.node_w.len());
         self.op_start.push(op as u32);
         self.w_start.push(start as u32);
@@ -386,33 +388,48 @@ impl ElementSet {
         self.gop.resize(op + n * n, Vector2::zeros());
         self.node_w.resize(start + n, 0.0);
         let (first_cell, first_value) = (self.area.len(), self.grad.len());
-        self.area.resize(first_cell + cells, 0.0);
-        self.grad.extend_from_slice(&p.cell_grad[..cells * n]);
-        self.weight.resize(first_value + cells * n, 0.0);
+        self.area.resize(first_cell + n, 0.0);
+        self.grad.resize(first_value + n * n, Vector2::zeros());
+        self.weight.resize(first_value + n * n, 0.0);
         self.value_start
-            .extend((1..=cells).map(|c| (first_value + c * n) as u32));
+            .extend((1..=n).map(|c| (first_value + c * n) as u32));
+        let (area, grad, weight) = (
+            &mut self.area[first_cell..first_cell + n],
+            &mut self.grad[first_value..first_value + n * n],
+            &mut self.weight[first_value..first_value + n * n],
+        );
+        fem::polygon::fan_cells_into(
+            &x[..n],
+            fem::polygon::FanCells {
+                area: &mut *area,
+                grad: &mut *grad,
+                weight: &mut *weight,
+                node_weight: &mut node_weight[..n],
+            },
+        );
+        let signed_total: f64 = area.iter().sum();
         let lap = &mut self.lap[op..op + n * n];
         let gop = &mut self.gop[op..op + n * n];
         let node_w = &mut self.node_w[start..start + n];
-        for c in 0..cells {
+        for c in 0..n {
             // As for a triangle: on the moved geometry of `geometry_theta` a thin cell may have
             // turned over; its smoothed gradients (flux over signed area) stay right.
-            let signed_area = p.cell_area[c];
-            let area = signed_area.abs();
-            self.area[first_cell + c] = area;
-            let grad = &p.cell_grad[c * n..(c + 1) * n];
-            // The cell means of the shape functions, ∫_cell N_i / A_cell.
+            let signed_area = area[c];
+            let cell_area = signed_area.abs();
+            area[c] = cell_area;
+            let grad = &grad[c * n..(c + 1) * n];
+            // The cell means of the shape functions, ∫_cell N_i / A_cell, in place.
             let per_area = 1.0 / signed_area;
-            let mean = &mut self.weight[first_value + c * n..first_value + (c + 1) * n];
-            for (m, w) in mean.iter_mut().zip(&p.cell_weight[c * n..(c + 1) * n]) {
-                *m = w * per_area;
+            let mean = &mut weight[c * n..(c + 1) * n];
+            for m in mean.iter_mut() {
+                *m *= per_area;
             }
             // The operators (positive areas, cell means); L is symmetric.
             for a in 0..n {
-                let (b_a, w_a) = (grad[a], area * mean[a]);
+                let (b_a, w_a) = (grad[a], cell_area * mean[a]);
                 node_w[a] += w_a;
                 for b in a..n {
-                    let l = area * b_a.dot(&grad[b]);
+                    let l = cell_area * b_a.dot(&grad[b]);
                     lap[a * n + b] += l;
                     if b != a {
                         lap[b * n + a] += l;
@@ -424,6 +441,7 @@ impl ElementSet {
             }
         }
         self.cell_start.push(self.area.len() as u32);
+        signed_total
     }
 
     /// A polygon's operators (L, G, W of `op_start`'s doc), or None for a triangle.
@@ -453,7 +471,8 @@ impl ElementSet {
             if x.len() == 3 {
                 set.push_triangle(&fem::p1(x[0], x[1], x[2]));
             } else {
-                set.push_polygon(&fem::polygon::polygon_element(&x));
+                let mut node_weight = vec![0.0; x.len()];
+                set.push_polygon(&x, &mut node_weight);
             }
         }
         set

@@ -47,7 +47,6 @@ impl Solver {
             (mu_e, fem::tau(p.settings.tau, rho, mu_e, h_e, dt, speed))
         };
         let mut cells = std::mem::take(&mut self.cells);
-        let mut polygon = std::mem::take(&mut self.polygon_scratch);
         cells.clear_geometry();
         for e in 0..cells.len() {
             let nodes = cells.nodes(e);
@@ -76,13 +75,15 @@ impl Solver {
                 // with N_k linear on the two edges at node k is half the sum of their outward
                 // normals times their lengths.
                 let n = nodes.len();
+                let mut ids = [0u32; MAX_POLYGON_NODES];
+                ids[..n].copy_from_slice(nodes);
+                let nodes = &ids[..n];
                 let mut pts = [nalgebra::Vector2::zeros(); MAX_POLYGON_NODES];
                 for (p, &i) in pts.iter_mut().zip(nodes) {
                     *p = x[i as usize];
                 }
-                let poly = &mut polygon;
-                fem::polygon::polygon_element_into(&pts[..n], poly);
-                let area: f64 = poly.cell_area.iter().sum();
+                let mut node_weight = [0.0; MAX_POLYGON_NODES];
+                let area = cells.push_polygon(&pts[..n], &mut node_weight[..n]);
                 let h_e = fem::element_size(area / (n - 2) as f64);
                 let mut g = nalgebra::Matrix2::zeros();
                 let mut mean_u = nalgebra::Vector2::zeros();
@@ -96,16 +97,14 @@ impl Solver {
                 let speed = (mean_u / n as f64).norm();
                 let (mu_e, tau) = viscosity_and_tau(h_e, s_mag, speed);
                 for (k, &i) in nodes.iter().enumerate() {
-                    self.mass[i as usize] += rho * poly.node_weight[k];
-                    self.tau_mass[i as usize] += tau * poly.node_weight[k];
+                    self.mass[i as usize] += rho * node_weight[k];
+                    self.tau_mass[i as usize] += tau * node_weight[k];
                 }
-                cells.push_polygon(poly);
                 (mu_e, tau)
             };
             self.mu_e.push(mu_e);
             self.tau_e.push(tau);
         }
         self.cells = cells;
-        self.polygon_scratch = polygon;
     }
 }

@@ -284,8 +284,6 @@ pub struct Solver {
     pub mesh: Mesh,
     /// The elements (triangles and EDT polygons) and their integration cells.
     cells: element_set::ElementSet,
-    /// The element of the polygon being built (its vectors reused).
-    polygon_scratch: crate::fem::polygon::PolygonElement,
     /// Per element.
     mu_e: Vec<f64>,
     tau_e: Vec<f64>,
