@@ -12,7 +12,6 @@
 //! be halved can be redone.
 
 use super::Solver;
-use super::element_set::{polygon_boundary, with_size};
 use crate::particles::Particles;
 use nalgebra::Vector2;
 
@@ -29,22 +28,13 @@ impl Solver {
         for e in 0..self.cells.len() {
             let tau = self.tau_e[e];
             if let Some(ops) = self.cells.polygon_operators(e) {
-                with_size(
-                    ops.len(),
+                ops.specialised(
                     #[inline(always)]
-                    |n| {
-                        let ops = ops.sized(n);
+                    |ops| {
                         // ∮ N_a Δp n − ∫ N_a ∇(Δp), and π from −τ ∫ N_a ∇p (see `element_set.rs`).
-                        for a in 0..n {
-                            let i = ops.node(a);
-                            impulse[i] -= ops.gradient_row(a, dp);
-                            self.pi_new[i] -= tau * ops.gradient_row(a, |j| p_new[j]);
-                        }
-                        for (a, b, nu) in polygon_boundary(ops.nodes, &particles.position) {
-                            let (ia, ib) = (ops.node(a), ops.node(b));
-                            let (pa, pb) = (dp(ia), dp(ib));
-                            impulse[ia] += nu * (pa / 3.0 + pb / 6.0);
-                            impulse[ib] += nu * (pa / 6.0 + pb / 3.0);
+                        ops.add_pressure_term(&particles.position, 1.0, dp, &mut impulse);
+                        for a in 0..ops.len() {
+                            self.pi_new[ops.node(a)] -= tau * ops.gradient_row(a, |j| p_new[j]);
                         }
                     },
                 );

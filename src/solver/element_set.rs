@@ -210,9 +210,41 @@ impl<'a> PolygonOperators<'a> {
         }
     }
 
+    /// Calls `f` with these operators cut to their node count inside [`with_size`], so that a
+    /// kernel `f` marked `#[inline(always)]` runs with constant loop bounds.
+    #[inline(always)]
+    pub fn specialised<R>(&self, f: impl FnOnce(&PolygonOperators<'a>) -> R) -> R {
+        with_size(
+            self.len(),
+            #[inline(always)]
+            |n| f(&self.sized(n)),
+        )
+    }
+
     #[inline(always)]
     pub fn node(&self, a: usize) -> usize {
         self.nodes[a] as usize
+    }
+
+    /// Adds `scale` ∫ f ∇N_a = `scale` (∮ N_a f n − ∫ N_a ∇f) to `out` at each node a (the
+    /// pressure force of `predict.rs` and the impulse of `correct.rs`; see the module doc).
+    #[inline(always)]
+    pub fn add_pressure_term(
+        &self,
+        position: &[Vector2<f64>],
+        scale: f64,
+        f: impl Fn(usize) -> f64,
+        out: &mut [Vector2<f64>],
+    ) {
+        for a in 0..self.len() {
+            out[self.node(a)] -= scale * self.gradient_row(a, &f);
+        }
+        for (a, b, nu) in polygon_boundary(self.nodes, position) {
+            let (ia, ib) = (self.node(a), self.node(b));
+            let (fa, fb) = (scale * f(ia), scale * f(ib));
+            out[ia] += nu * (fa / 3.0 + fb / 6.0);
+            out[ib] += nu * (fa / 6.0 + fb / 3.0);
+        }
     }
 
     // The rows below are plain loops rather than iterator sums: inside `with_size` they then

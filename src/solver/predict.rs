@@ -11,7 +11,6 @@
 //! slip wall nodes keep the component of ũ along the wall (they do not move; their velocity
 //! lets the water next to them slide); isolated particles fly ballistically, ũ = uⁿ + Δt g.
 
-use super::element_set::{polygon_boundary, with_size};
 use super::{Solver, cg};
 use crate::fem;
 use crate::particles::Particles;
@@ -27,13 +26,11 @@ impl Solver {
         let explicit_visc = 1.0 - p.settings.theta;
         for e in 0..self.cells.len() {
             if let Some(ops) = self.cells.polygon_operators(e) {
-                with_size(
-                    ops.len(),
+                ops.specialised(
                     #[inline(always)]
-                    |n| {
-                        let ops = ops.sized(n);
+                    |ops| {
                         for cell in self.cells.cells(e) {
-                            let cell = cell.sized(n);
+                            let cell = cell.sized(ops.len());
                             let g = cell.velocity_gradient(|i| x_u[i]);
                             let (s, _) = fem::strain_rate(&g);
                             let visc = (-2.0 * explicit_visc * self.mu_e[e] * cell.area) * s;
@@ -41,18 +38,8 @@ impl Solver {
                                 force[cell.node(a)] += visc * b;
                             }
                         }
-                        // ∮ N_a p n − ∫ N_a ∇p (see `element_set.rs`).
-                        for a in 0..n {
-                            force[ops.node(a)] -=
-                                p.settings.gamma * ops.gradient_row(a, |i| pres[i]);
-                        }
-                        for (a, b, nu) in polygon_boundary(ops.nodes, &particles.position) {
-                            let (ia, ib) = (ops.node(a), ops.node(b));
-                            let (pa, pb) =
-                                (p.settings.gamma * pres[ia], p.settings.gamma * pres[ib]);
-                            force[ia] += nu * (pa / 3.0 + pb / 6.0);
-                            force[ib] += nu * (pa / 6.0 + pb / 3.0);
-                        }
+                        let (x, gamma) = (&particles.position, p.settings.gamma);
+                        ops.add_pressure_term(x, gamma, |i| pres[i], &mut force);
                     },
                 );
                 continue;

@@ -36,7 +36,7 @@
 //! thread, which works while this one computes the element properties, the predictor and the
 //! matrix values.
 
-use super::element_set::{ElementSet, PolygonOperators, polygon_boundary, with_size};
+use super::element_set::{ElementSet, PolygonOperators, polygon_boundary};
 use super::{Solver, StepError};
 use crate::case::PressureSolver;
 use crate::mesh::edt::MAX_POLYGON_NODES;
@@ -392,10 +392,9 @@ impl Solver {
                     tau,
                     area_correction: self.params.settings.area_correction,
                 };
-                with_size(
-                    ops.len(),
+                ops.specialised(
                     #[inline(always)]
-                    |n| assemble_polygon(sys, e, &ops.sized(n), &self.cells, &fields),
+                    |ops| assemble_polygon(sys, e, ops, &self.cells, &fields),
                 );
                 continue;
             }
