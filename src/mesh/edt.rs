@@ -279,6 +279,9 @@ impl Merger {
         group: &[u32],
         nodes: &mut [u32; MAX_POLYGON_NODES],
     ) -> Option<usize> {
+        if let &[first, second] = group {
+            return self.quad_loop(position, triangles, [first, second], nodes);
+        }
         let group_root = self.parent[group[0] as usize];
         // Directed boundary edges: those whose neighbour is missing or in another group.
         let mut edges = [(0u32, 0u32); 3 * MAX_GROUP_TRIANGLES];
@@ -320,6 +323,37 @@ impl Merger {
             .map(|&t| self.circles[t as usize].area_m2)
             .sum();
         convex_with_area(position, &nodes[..n], area_m2).then_some(n)
+    }
+}
+
+impl Merger {
+    /// [`Merger::boundary_loop`] of a group of two triangles (most groups: the quads of a
+    /// lattice), read off their shared edge instead of traced: with t₁ = (a, b, c) sharing
+    /// a → b with t₂ = (b, a, q), the loop is b, c, a, q (the same canonical loop the tracing
+    /// gives).
+    fn quad_loop(
+        &self,
+        position: &[Vector2<f64>],
+        triangles: &[[u32; 3]],
+        [first, second]: [u32; 2],
+        nodes: &mut [u32; MAX_POLYGON_NODES],
+    ) -> Option<usize> {
+        let e = (0..3).find(|&e| self.neighbour[first as usize][e] == second)?;
+        let t = triangles[first as usize];
+        let (a, b, c) = (t[e], t[(e + 1) % 3], t[(e + 2) % 3]);
+        let q = *triangles[second as usize]
+            .iter()
+            .find(|&&v| v != a && v != b)?;
+        if q == c {
+            return None;
+        }
+        let quad = [b, c, a, q];
+        let start = (0..4).min_by_key(|&k| quad[k])?;
+        for (k, node) in nodes.iter_mut().take(4).enumerate() {
+            *node = quad[(start + k) % 4];
+        }
+        let area_m2 = self.circles[first as usize].area_m2 + self.circles[second as usize].area_m2;
+        convex_with_area(position, &nodes[..4], area_m2).then_some(4)
     }
 }
 
