@@ -324,9 +324,7 @@ impl Merger {
             .sum();
         convex_with_area(position, &nodes[..n], area_m2).then_some(n)
     }
-}
 
-impl Merger {
     /// [`Merger::boundary_loop`] of a group of two triangles (most groups: the quads of a
     /// lattice), read off their shared edge instead of traced: with t₁ = (a, b, c) sharing
     /// a → b with t₂ = (b, a, q), the loop is b, c, a, q (the same canonical loop the tracing

@@ -402,6 +402,7 @@ impl ElementSet {
     /// in place, and its operators. Writes ∫ N_i over the polygon into `node_weight` (length n)
     /// and returns the sum of the cells' signed areas, m².
     pub fn push_polygon(&mut self, x: &[Vector2<f64>], node_weight: &mut [f64]) -> f64 {
+        debug_assert!(x.len() >= 4, "a polygon element has 4 or more nodes");
         with_size(
             x.len(),
             #[inline(always)]
