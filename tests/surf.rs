@@ -91,140 +91,91 @@ fn an_enclosed_air_pocket_is_a_cavity_not_a_fold() {
 
 #[test]
 fn breaker_rules() {
-    let base = BreakerFeatures {
+    use BreakerType::*;
+    // A wave 0.2 m high over h_b m of still water whose longest fold reached `reach_m` with its
+    // top `top_m` above the trough.
+    let fold = |h_b_m, reach_m, top_m| BreakerFeatures {
+        h_b_m,
         height_b_m: 0.2,
+        reach_m,
+        top_m,
         ..Default::default()
     };
-    // Offshore of the shoreline (h_b ≥ H_b / 2): the fold's reach decides, and where on the
-    // wave it starts.
-    assert_eq!(
-        classify(&BreakerFeatures { h_b_m: 0.3, ..base }),
-        BreakerType::Spilling
-    );
-    assert_eq!(
-        classify(&BreakerFeatures {
-            h_b_m: 0.3,
-            reach_m: 0.099,
-            top_m: 0.18,
-            cavity: true,
-            ..base
-        }),
-        BreakerType::Spilling
-    );
-    assert_eq!(
-        classify(&BreakerFeatures {
-            h_b_m: 0.3,
-            reach_m: 0.101,
-            top_m: 0.18,
-            ..base
-        }),
-        BreakerType::Plunging
-    );
-    assert_eq!(
-        classify(&BreakerFeatures {
-            h_b_m: 0.1,
-            reach_m: 0.2,
-            top_m: 0.15,
-            cavity: true,
-            ..base
-        }),
-        BreakerType::Plunging
-    );
-    // A long fold low on the face: the front collapses, the crest does not plunge.
-    assert_eq!(
-        classify(&BreakerFeatures {
-            h_b_m: 0.3,
-            reach_m: 0.15,
-            top_m: 0.099,
-            ..base
-        }),
-        BreakerType::Collapsing
-    );
-    assert_eq!(
-        classify(&BreakerFeatures {
-            h_b_m: 0.3,
-            reach_m: 0.15,
-            top_m: 0.101,
-            ..base
-        }),
-        BreakerType::Plunging
-    );
-    // No long fold, but the lower face of the whole crest steepened past 60°: collapsing
-    // (Galvin); a long fold from the crest still plunges.
-    assert_eq!(
-        classify(&BreakerFeatures {
-            h_b_m: 0.3,
-            steep_lower_face: true,
-            ..base
-        }),
-        BreakerType::Collapsing
-    );
-    assert_eq!(
-        classify(&BreakerFeatures {
-            h_b_m: 0.3,
-            reach_m: 0.099,
-            top_m: 0.18,
-            cavity: true,
-            steep_lower_face: true,
-            ..base
-        }),
-        BreakerType::Collapsing
-    );
-    assert_eq!(
-        classify(&BreakerFeatures {
-            h_b_m: 0.3,
-            reach_m: 0.15,
-            top_m: 0.101,
-            steep_lower_face: true,
-            ..base
-        }),
-        BreakerType::Plunging
-    );
-    // At the shoreline: a long jet from the crest that traps air plunges, anything else
-    // collapses.
-    assert_eq!(
-        classify(&BreakerFeatures {
-            h_b_m: 0.05,
-            reach_m: 0.1,
-            top_m: 0.15,
-            cavity: true,
-            ..base
-        }),
-        BreakerType::Plunging
-    );
-    assert_eq!(
-        classify(&BreakerFeatures {
-            h_b_m: 0.05,
-            reach_m: 0.1,
-            top_m: 0.05,
-            cavity: true,
-            ..base
-        }),
-        BreakerType::Collapsing
-    );
-    assert_eq!(
-        classify(&BreakerFeatures {
-            h_b_m: 0.05,
-            reach_m: 0.1,
-            top_m: 0.15,
-            ..base
-        }),
-        BreakerType::Collapsing
-    );
-    assert_eq!(
-        classify(&BreakerFeatures {
-            h_b_m: 0.05,
-            reach_m: 0.02,
-            top_m: 0.15,
-            cavity: true,
-            ..base
-        }),
-        BreakerType::Collapsing
-    );
-    assert_eq!(
-        classify(&BreakerFeatures { h_b_m: 0.0, ..base }),
-        BreakerType::Collapsing
-    );
+    let cases = [
+        // Offshore of the shoreline (h_b ≥ H_b / 2): the fold's reach decides, and where on the
+        // wave it starts.
+        (fold(0.3, 0.0, 0.0), Spilling),
+        (
+            BreakerFeatures {
+                cavity: true,
+                ..fold(0.3, 0.099, 0.18)
+            },
+            Spilling,
+        ),
+        (fold(0.3, 0.101, 0.18), Plunging),
+        (
+            BreakerFeatures {
+                cavity: true,
+                ..fold(0.1, 0.2, 0.15)
+            },
+            Plunging,
+        ),
+        // A long fold low on the face: the front collapses, the crest does not plunge.
+        (fold(0.3, 0.15, 0.099), Collapsing),
+        (fold(0.3, 0.15, 0.101), Plunging),
+        // No long fold, but the lower face of the whole crest steepened past 60°: collapsing
+        // (Galvin); a long fold from the crest still plunges.
+        (
+            BreakerFeatures {
+                steep_lower_face: true,
+                ..fold(0.3, 0.0, 0.0)
+            },
+            Collapsing,
+        ),
+        (
+            BreakerFeatures {
+                cavity: true,
+                steep_lower_face: true,
+                ..fold(0.3, 0.099, 0.18)
+            },
+            Collapsing,
+        ),
+        (
+            BreakerFeatures {
+                steep_lower_face: true,
+                ..fold(0.3, 0.15, 0.101)
+            },
+            Plunging,
+        ),
+        // At the shoreline: a long jet from the crest that traps air plunges, anything else
+        // collapses.
+        (
+            BreakerFeatures {
+                cavity: true,
+                ..fold(0.05, 0.1, 0.15)
+            },
+            Plunging,
+        ),
+        (
+            BreakerFeatures {
+                cavity: true,
+                ..fold(0.05, 0.1, 0.05)
+            },
+            Collapsing,
+        ),
+        (fold(0.05, 0.1, 0.15), Collapsing),
+        (
+            BreakerFeatures {
+                cavity: true,
+                ..fold(0.05, 0.02, 0.15)
+            },
+            Collapsing,
+        ),
+        (fold(0.0, 0.0, 0.0), Collapsing),
+    ];
+    for (features, expected) in cases {
+        assert_eq!(classify(&features), expected, "{features:?}");
+    }
 }
 
 #[test]
