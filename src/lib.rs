@@ -22,6 +22,7 @@ pub mod output;
 pub mod particles;
 pub mod simulation;
 pub mod solver;
+pub mod study;
 pub mod sweep;
 pub mod validation;
 pub mod wavemaker;

@@ -109,6 +109,18 @@ enum Command {
     /// Run a case over the product of --vary lists, one run directory per point; write
     /// sweep.csv, sweep.json, the breaker-type map (PNG, SVG) and sweep.rrd (docs/sweep.md).
     Sweep(surflab::sweep::SweepArgs),
+    /// Gather finished runs of one case that differ in α and δ (docs/alpha_delta.md): validate
+    /// each as `surflab validate --from` does, and write study.csv, study.md, study.svg and
+    /// study.png with each kind of check as the fraction of its bar it uses, against α, one
+    /// line per δ.
+    Study {
+        /// Run folders, or folders holding them (a sweep's, or runs/study_flap).
+        #[arg(required = true, value_name = "DIR")]
+        dirs: Vec<PathBuf>,
+        /// Output folder (default: the first DIR).
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+    },
     /// Time the step: ms per step by stage, particles and particle-steps per second.
     Bench {
         case: PathBuf,
@@ -154,6 +166,7 @@ fn main() {
             surflab::lab::view(surflab::lab::ViewOptions { files, screenshot })
         }
         Some(Command::Sweep(args)) => surflab::sweep::cli::main(args).map_err(Into::into),
+        Some(Command::Study { dirs, out }) => cmd_study(&dirs, out),
         #[cfg(feature = "lab")]
         Some(Command::Lab {
             case,
@@ -312,23 +325,17 @@ fn cmd_validate(
                     "--from checks an earlier run as it was: --set, --until and --out do not apply"
                 );
             }
-            let file = dir.join("summary.json");
-            let text = std::fs::read_to_string(&file)
-                .with_context(|| format!("reading {}", file.display()))?;
-            let json: serde_json::Value = serde_json::from_str(&text)
-                .with_context(|| format!("{}: not JSON", file.display()))?;
-            let case = Case::from_summary(json["parameters"].clone())
-                .with_context(|| format!("{}: parameters", file.display()))?;
+            let run = surflab::study::FinishedRun::read(&dir)?;
             let number = |key: &str| {
-                json[key]
+                run.summary[key]
                     .as_f64()
-                    .with_context(|| format!("{}: no number {key}", file.display()))
+                    .with_context(|| format!("{}/summary.json: no number {key}", dir.display()))
             };
-            let status = json["status"].as_str().unwrap_or("unknown").to_string();
-            let particles = json["particles"].as_u64().map(|n| n as usize);
+            let status = run.status().to_string();
+            let particles = run.summary["particles"].as_u64().map(|n| n as usize);
             (
-                dir,
-                case,
+                dir.clone(),
+                run.case.clone(),
                 number("volume_drift_max")?,
                 number("simulated_s")?,
                 status,
@@ -368,21 +375,7 @@ fn cmd_validate(
             dir.display()
         );
     }
-    // A wavemaker's checks read the gauges; the dam break (no wavemaker) the time series.
-    let (record, series) = if case.wavemaker.is_some() {
-        let gauges = dir.join("gauges.csv");
-        let record = surflab::output::timeseries::read_gauges(&gauges)
-            .with_context(|| format!("reading {}", gauges.display()))?;
-        (record, None)
-    } else {
-        let file = dir.join("timeseries.csv");
-        let mut series = surflab::output::timeseries::read_dam_break_series(&file)
-            .with_context(|| format!("reading {}", file.display()))?;
-        series.particles = particles;
-        (Default::default(), Some(series))
-    };
-    let report = surflab::validation::check_case(&case, &record, series.as_ref(), drift, simulated)
-        .with_context(|| format!("validating {}", case.name))?;
+    let report = surflab::study::validate_outputs(&dir, &case, drift, simulated, particles)?;
     println!(
         "{}: {}, averaged over t = {:.2}–{:.2} s",
         case.name, report.kind, report.window_s[0], report.window_s[1]
@@ -426,6 +419,33 @@ fn cmd_validate(
         report.checks.len(),
         file.display()
     );
+    Ok(())
+}
+
+fn cmd_study(dirs: &[PathBuf], out: Option<PathBuf>) -> Result<()> {
+    let found = surflab::study::find_runs(dirs)?;
+    eprintln!("surflab: {} runs; validating each", found.len());
+    let runs = surflab::study::read_study(dirs)?;
+    for r in &runs {
+        let verdict = match (r.kinds.is_empty(), r.all_passed()) {
+            (true, _) => format!("no checks ({})", r.note.as_deref().unwrap_or("none apply")),
+            (false, true) => format!("all {} kinds of check pass", r.kinds.len()),
+            (false, false) => {
+                let failed: Vec<&str> = r
+                    .kinds
+                    .iter()
+                    .filter(|k| !k.passed)
+                    .map(|k| k.kind.as_str())
+                    .collect();
+                format!("FAIL: {}", failed.join("; "))
+            }
+        };
+        println!("α = {}, δ = {}: {verdict}", r.alpha, r.delta);
+    }
+    let out = out.unwrap_or_else(|| dirs[0].clone());
+    for file in surflab::study::write_study(&runs, &out)? {
+        println!("wrote {}", file.display());
+    }
     Ok(())
 }
 

@@ -1,7 +1,7 @@
 //! `surflab sweep` end to end on a tiny still-water tank: two shards into one directory, each
 //! point run exactly once, `--collect` rebuilding the table, a second call running nothing
-//! (resume), the map and the recording written; and the errors that stop a sweep before it
-//! runs anything.
+//! (resume), the map and the recording written; the errors that stop a sweep before it
+//! runs anything; and `surflab study` gathering a sweep's runs over α and δ.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -259,4 +259,83 @@ fn bad_sweeps_stop_before_any_run() {
             "{what}: nothing is written before the checks pass"
         );
     }
+}
+
+/// `surflab study` on a sweep's folder: a row per run, the figure, and the refusals (no runs;
+/// runs that differ in more than α and δ).
+#[test]
+fn a_study_of_alpha_and_delta() {
+    let (dir, case) = workspace("study");
+    let out = dir.join("out");
+    let (case, out_s) = (case.to_str().unwrap(), out.to_str().unwrap());
+    finish(
+        surflab(&["sweep", case])
+            .args([
+                "--vary",
+                "solver.alpha=1.2,1.4",
+                "--vary",
+                "solver.delta=0,0.03",
+            ])
+            .args(["--until", "0.05", "--no-rrd", "--out", out_s])
+            .output()
+            .unwrap(),
+        "sweep",
+    );
+    let study = surflab(&["study", out_s]).output().unwrap();
+    let stdout = String::from_utf8_lossy(&study.stdout).into_owned();
+    finish(study, "study");
+    println!("{stdout}");
+    // The still tank has no wavemaker and no dam to validate: each run says why it has no check.
+    assert_eq!(stdout.matches("no checks (").count(), 4, "{stdout}");
+    let csv = std::fs::read_to_string(out.join("study.csv")).unwrap();
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(lines.len(), 5, "{csv}");
+    for (row, expected) in
+        lines[1..]
+            .iter()
+            .zip(["1.2,0,ok,", "1.2,0.03,ok,", "1.4,0,ok,", "1.4,0.03,ok,"])
+    {
+        assert!(row.starts_with(expected), "{row}");
+    }
+    let md = std::fs::read_to_string(out.join("study.md")).unwrap();
+    assert!(md.contains("| 1.4 | 0.03 |"), "{md}");
+    let png = std::fs::read(out.join("study.png")).unwrap();
+    assert!(png.starts_with(b"\x89PNG\r\n\x1a\n") && png.len() > 10_000);
+    let svg = std::fs::read_to_string(out.join("study.svg")).unwrap();
+    assert!(svg.contains("δ = 0.03"), "a line per δ");
+
+    // A folder without runs, and runs that differ in the spacing too, are refused.
+    let empty = dir.join("empty");
+    std::fs::create_dir_all(&empty).unwrap();
+    let refused = surflab(&["study", empty.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert!(
+        !refused.status.success() && stderr.contains("no run directory"),
+        "{stderr}"
+    );
+    let other = dir.join("other");
+    finish(
+        surflab(&["sweep", case])
+            .args(["--vary", "particles.spacing_m=0.04"])
+            .args([
+                "--until",
+                "0.05",
+                "--no-rrd",
+                "--out",
+                other.to_str().unwrap(),
+            ])
+            .output()
+            .unwrap(),
+        "sweep of another spacing",
+    );
+    let refused = surflab(&["study", out_s, other.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert!(
+        !refused.status.success() && stderr.contains("particles.spacing_m"),
+        "{stderr}"
+    );
 }

@@ -36,6 +36,15 @@ pub fn cnoidal(case: &Case, record: &GaugeRecord) -> Result<Report, CheckError> 
                 "no elevation gauge within L/4 of two wavelengths out (x = {target_x:.2} m)"
             ))
         })?;
+    // Cnoidal theory is for the constant depth: over a beach the wave shoals (and the beach
+    // reflects), so the height there is no check of the paddle.
+    let bed = case.flume.bed_y_at(x);
+    if bed.abs() > 0.01 * depth {
+        return Err(CheckError::NotApplicable(format!(
+            "the gauge two wavelengths out (x = {x:.2} m) stands where the bed is {bed:.3} m high, \
+             not in the {depth} m depth cnoidal theory is for"
+        )));
+    }
     let stats = crossing_stats(&record.t_s, eta, window)
         .ok_or_else(|| CheckError::TooShort(format!("no whole wave at x = {x} m")))?;
     report.checks.push(Check::new(
@@ -109,5 +118,23 @@ mod tests {
         assert!(r.checks[0].error().abs() < 0.005, "{:?}", r.checks[0]);
         let crest = r.figures.iter().find(|f| f.what == "crest / η_c").unwrap();
         assert!((crest.value - 1.0).abs() < 0.01, "{crest:?}");
+    }
+
+    /// Ting & Kirby's gauge two wavelengths out (x = 8 m) is over the 1:35 slope (toe at
+    /// 4.3 m, bed 0.106 m high): the waves shoal there, so the check does not apply.
+    #[test]
+    fn a_gauge_over_the_beach_is_no_check_of_the_paddle() {
+        let case = Case::load(std::path::Path::new("cases/ting_kirby_spilling.toml"), &[]).unwrap();
+        let t: Vec<f64> = (0..1800).map(|i| i as f64 * 0.02).collect();
+        let cols = case
+            .output
+            .gauges_x_m
+            .iter()
+            .map(|&x| (format!("eta_{x:.3}"), t.iter().map(|_| Some(0.0)).collect()))
+            .collect();
+        match cnoidal(&case, &record(&t, cols)) {
+            Err(CheckError::NotApplicable(why)) => assert!(why.contains("bed is"), "{why}"),
+            other => panic!("expected not applicable, got {other:?}"),
+        }
     }
 }
