@@ -103,7 +103,8 @@ fn io_error(path: &Path) -> impl FnOnce(std::io::Error) -> StudyError + '_ {
     }
 }
 
-/// Validates the outputs a run of `case` wrote in `dir`, as `surflab validate` does: a
+/// Validates the outputs a run of `case` wrote in `dir`, as `surflab validate` does: a surf
+/// case (a wavemaker and a beach) reads `summary.json` for Ting & Kirby's bars, another
 /// wavemaker's checks read `gauges.csv`, the dam break's (no wavemaker) `timeseries.csv`.
 pub fn validate_outputs(
     dir: &Path,
@@ -112,6 +113,20 @@ pub fn validate_outputs(
     simulated_s: f64,
     particles: Option<usize>,
 ) -> Result<Report, StudyError> {
+    let check_error = |source| StudyError::Check {
+        case: case.name.clone(),
+        source,
+    };
+    if case.wavemaker.is_some() && case.flume.beach.is_some() {
+        let file = dir.join("summary.json");
+        let text = std::fs::read_to_string(&file).map_err(io_error(&file))?;
+        let summary: serde_json::Value =
+            serde_json::from_str(&text).map_err(|e| StudyError::Unreadable {
+                path: file.clone(),
+                message: format!("not JSON: {e}"),
+            })?;
+        return crate::validation::ting_kirby(case, &summary).map_err(check_error);
+    }
     let (record, series) = if case.wavemaker.is_some() {
         let file = dir.join("gauges.csv");
         let record = crate::output::timeseries::read_gauges(&file).map_err(io_error(&file))?;
@@ -130,10 +145,7 @@ pub fn validate_outputs(
         volume_drift_max,
         simulated_s,
     )
-    .map_err(|source| StudyError::Check {
-        case: case.name.clone(),
-        source,
-    })
+    .map_err(check_error)
 }
 
 /// A run directory's `summary.json`, and the case it was run with.
@@ -197,8 +209,16 @@ impl FinishedRun {
 
 /// The fraction of its bar a check uses: |measured/target − 1| over the tolerance, or the
 /// measured figure over its upper bound. At most 1 passes (below 1 for a strict bound).
+/// A yes/no check (no tolerance) is 0 when it holds and infinite when it does not.
 pub fn bar_fraction(check: &Check) -> f64 {
     match check.relative_tolerance {
+        Some(0.0) => {
+            if check.passed {
+                0.0
+            } else {
+                f64::INFINITY
+            }
+        }
         Some(tol) => check.error().abs() / tol,
         None => check.measured / check.target,
     }
@@ -463,6 +483,7 @@ pub fn markdown(runs: &[StudyRun]) -> String {
         out.push_str(&format!("| {} | {} |", r.alpha, r.delta));
         for k in &kinds {
             match r.kinds.iter().find(|x| &x.kind == k) {
+                Some(f) if f.worst_fraction.is_infinite() => out.push_str(" ✗ |"),
                 Some(f) => out.push_str(&format!(
                     " {:.2}{} |",
                     f.worst_fraction,

@@ -9,6 +9,7 @@
 //! - `standing`: a linear paddle against a vertical end wall;
 //! - `cnoidal`: a cnoidal piston;
 //! - `dam_break`: the collapse of a water column (no wavemaker);
+//! - `surf`: a surf case against Ting & Kirby's breaking point, read from its summary;
 //! - `fit`: the fits and wave statistics they share.
 
 mod cnoidal;
@@ -16,12 +17,14 @@ mod dam_break;
 mod fit;
 mod progressive;
 mod standing;
+mod surf;
 
 pub use cnoidal::cnoidal;
 pub use dam_break::{DamBreakSeries, column_width, dam_break};
 pub use fit::harmonic_fit;
 pub use progressive::progressive;
 pub use standing::standing;
+pub use surf::{SurfReference, surf_reference, surf_references, ting_kirby};
 
 use crate::case::{Case, WaveTheory};
 use crate::output::timeseries::GaugeRecord;
@@ -85,6 +88,7 @@ impl Check {
             format!(" {}", self.unit)
         };
         match self.relative_tolerance {
+            Some(0.0) => format!("= {}{unit}", self.target),
             Some(tol) => format!("{:.4}{unit} ± {} %", self.target, 100.0 * tol),
             None if self.inclusive => format!("≤ {}{unit}", self.target),
             None => format!("< {}{unit}", self.target),
