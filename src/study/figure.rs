@@ -51,7 +51,7 @@ fn lines(
         .map(|d| {
             let mut points: Vec<(f64, f64)> = runs
                 .iter()
-                .filter(|r| r.delta == d)
+                .filter(|r| r.delta == d && r.status == "ok")
                 .filter_map(|r| Some((r.alpha, value(r).filter(|v| v.is_finite())?)))
                 .collect();
             points.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -270,6 +270,11 @@ mod tests {
             run(1.4, 0.0, 0.2, None),
             run(1.1, 0.03, 0.7, None),
             run(1.6, 0.03, 1.2, Some(6.1)),
+            // A run that diverged: in the table, not on the figure.
+            StudyRun {
+                status: "stopped: diverged".into(),
+                ..run(1.2, 0.03, 9.0, Some(8.5))
+            },
         ];
         let p = panels(&runs);
         // wave height, x_b, volume drift (no volume check among the kinds).
@@ -278,7 +283,7 @@ mod tests {
         assert_eq!(p[0].lines[1].1, vec![(1.1, 0.7), (1.6, 1.2)]);
         assert_eq!(p[1].lines.len(), 1, "x_b only where a run has one");
         let svg = svg(&runs).unwrap();
-        assert!(svg.contains("α/δ study: flap, 4 runs") && svg.contains("δ = 0.03"));
+        assert!(svg.contains("α/δ study: flap, 5 runs") && svg.contains("δ = 0.03"));
         let png = png(&runs).unwrap();
         assert!(png.starts_with(b"\x89PNG"));
     }

@@ -505,10 +505,11 @@ pub fn markdown(runs: &[StudyRun]) -> String {
             r.volume_drift_max
                 .map_or("–".to_owned(), |v| format!("{:.3} %", 100.0 * v)),
             opt(r.median_ms_per_step, 1),
-            match (r.kinds.is_empty(), r.all_passed()) {
-                (true, _) => "none",
-                (false, true) => "✓",
-                (false, false) => "✗",
+            match (r.status == "ok", r.kinds.is_empty(), r.all_passed()) {
+                (false, _, _) => "✗ did not finish",
+                (true, true, _) => "none",
+                (true, false, true) => "✓",
+                (true, false, false) => "✗",
             }
         ));
     }
