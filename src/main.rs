@@ -71,7 +71,8 @@ enum Command {
     },
     /// Run a case and check it: a wavemaker's waves against theory (issue 3): a flap or piston
     /// into an absorbing end, a standing wave at a wall, or a cnoidal piston; a dam break
-    /// against Martin & Moyce (1952). Prints each figure against its bar, writes
+    /// against Martin & Moyce (1952); a Ting & Kirby surf case against its breaking point,
+    /// type, undertow balance and volume. Prints each figure against its bar, writes
     /// validation.json beside the run, exits non-zero if one fails.
     Validate {
         /// The case file, e.g. cases/flap_deep_water.toml.
