@@ -62,8 +62,16 @@ fn lines(
 }
 
 fn panels(runs: &[StudyRun]) -> Vec<Panel> {
+    // A yes/no check (its bar `= 1`, e.g. the breaker type) has no fraction to draw: the
+    // table says where it failed.
+    let yes_no = |kind: &str| {
+        runs.iter()
+            .flat_map(|r| &r.kinds)
+            .any(|k| k.kind == kind && k.bar.starts_with("= "))
+    };
     let mut out: Vec<Panel> = kinds(runs)
         .into_iter()
+        .filter(|kind| !yes_no(kind))
         .map(|kind| Panel {
             lines: lines(runs, |r| {
                 r.kinds
@@ -270,6 +278,16 @@ mod tests {
             run(1.4, 0.0, 0.2, None),
             run(1.1, 0.03, 0.7, None),
             run(1.6, 0.03, 1.2, Some(6.1)),
+            // A yes/no kind: not drawn.
+            StudyRun {
+                kinds: vec![KindResult {
+                    kind: "breaker type".into(),
+                    worst_fraction: 0.0,
+                    passed: true,
+                    bar: "= 1".into(),
+                }],
+                ..run(1.4, 0.03, 0.0, None)
+            },
             // A run that diverged: in the table, not on the figure.
             StudyRun {
                 status: "stopped: diverged".into(),
@@ -283,7 +301,7 @@ mod tests {
         assert_eq!(p[0].lines[1].1, vec![(1.1, 0.7), (1.6, 1.2)]);
         assert_eq!(p[1].lines.len(), 1, "x_b only where a run has one");
         let svg = svg(&runs).unwrap();
-        assert!(svg.contains("α/δ study: flap, 5 runs") && svg.contains("δ = 0.03"));
+        assert!(svg.contains("α/δ study: flap, 6 runs") && svg.contains("δ = 0.03"));
         let png = png(&runs).unwrap();
         assert!(png.starts_with(b"\x89PNG"));
     }
