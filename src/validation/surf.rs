@@ -90,14 +90,15 @@ pub fn ting_kirby(case: &Case, summary: &serde_json::Value) -> Result<Report, Ch
             .ok_or_else(|| missing("surf.averaged_to_s"))?,
     ];
     let mut report = Report::new(&format!("Ting & Kirby, {}", r.breaker), window);
-    let x_b = breaking["x_b_data_frame_m"]
-        .as_f64()
-        .ok_or_else(|| missing("breaking point (breaking.x_b_data_frame_m)"))?;
-    report.figure("breaking point x_b, the data's frame", x_b, "m");
+    // No breaker seen: the bar fails (an infinite distance), it is not a short record.
+    let x_b = breaking["x_b_data_frame_m"].as_f64();
+    if let Some(x_b) = x_b {
+        report.figure("breaking point x_b, the data's frame", x_b, "m");
+    }
     report.figure("measured breaking point", r.x_b_m, "m");
     report.checks.push(Check::at_most(
         format!("|x_b − {:.3} m|, x_b the first fold", r.x_b_m),
-        (x_b - r.x_b_m).abs(),
+        x_b.map_or(f64::INFINITY, |x| (x - r.x_b_m).abs()),
         0.5,
         "m",
     ));
@@ -200,6 +201,11 @@ mod tests {
             .map(|c| c.what.as_str())
             .collect();
         assert_eq!(failed.len(), 3, "{failed:?}");
+        // No breaker: the breaking point's bar fails.
+        let mut none = summary(5.985, "none", 0.0001);
+        none["breaking"]["x_b_data_frame_m"] = serde_json::Value::Null;
+        let r = ting_kirby(&case, &none).unwrap();
+        assert!(!r.checks[0].passed && !r.checks[1].passed && r.checks[2].passed);
         // A summary without the surf averages is too short, not a failure.
         let bare = serde_json::json!({"volume_drift_max": 0.0});
         assert!(matches!(
