@@ -93,85 +93,39 @@ fn an_enclosed_air_pocket_is_a_cavity_not_a_fold() {
 fn breaker_rules() {
     use BreakerType::*;
     // A wave 0.2 m high over h_b m of still water whose longest fold reached `reach_m` with its
-    // top `top_m` above the trough.
-    let fold = |h_b_m, reach_m, top_m| BreakerFeatures {
+    // top `top_m` above the trough, with or without an air cavity and a steep lower face.
+    let fold = |h_b_m, reach_m, top_m, cavity, steep_lower_face| BreakerFeatures {
         h_b_m,
         height_b_m: 0.2,
         reach_m,
         top_m,
-        ..Default::default()
+        cavity,
+        steep_lower_face,
     };
+    let (air, steep) = (true, true);
+    #[rustfmt::skip]
     let cases = [
         // Offshore of the shoreline (h_b ≥ H_b / 2): the fold's reach decides, and where on the
         // wave it starts.
-        (fold(0.3, 0.0, 0.0), Spilling),
-        (
-            BreakerFeatures {
-                cavity: true,
-                ..fold(0.3, 0.099, 0.18)
-            },
-            Spilling,
-        ),
-        (fold(0.3, 0.101, 0.18), Plunging),
-        (
-            BreakerFeatures {
-                cavity: true,
-                ..fold(0.1, 0.2, 0.15)
-            },
-            Plunging,
-        ),
+        (fold(0.3, 0.0, 0.0, !air, !steep), Spilling),
+        (fold(0.3, 0.099, 0.18, air, !steep), Spilling),
+        (fold(0.3, 0.101, 0.18, !air, !steep), Plunging),
+        (fold(0.1, 0.2, 0.15, air, !steep), Plunging),
         // A long fold low on the face: the front collapses, the crest does not plunge.
-        (fold(0.3, 0.15, 0.099), Collapsing),
-        (fold(0.3, 0.15, 0.101), Plunging),
+        (fold(0.3, 0.15, 0.099, !air, !steep), Collapsing),
+        (fold(0.3, 0.15, 0.101, !air, !steep), Plunging),
         // No long fold, but the lower face of the whole crest steepened past 60°: collapsing
         // (Galvin); a long fold from the crest still plunges.
-        (
-            BreakerFeatures {
-                steep_lower_face: true,
-                ..fold(0.3, 0.0, 0.0)
-            },
-            Collapsing,
-        ),
-        (
-            BreakerFeatures {
-                cavity: true,
-                steep_lower_face: true,
-                ..fold(0.3, 0.099, 0.18)
-            },
-            Collapsing,
-        ),
-        (
-            BreakerFeatures {
-                steep_lower_face: true,
-                ..fold(0.3, 0.15, 0.101)
-            },
-            Plunging,
-        ),
+        (fold(0.3, 0.0, 0.0, !air, steep), Collapsing),
+        (fold(0.3, 0.099, 0.18, air, steep), Collapsing),
+        (fold(0.3, 0.15, 0.101, !air, steep), Plunging),
         // At the shoreline: a long jet from the crest that traps air plunges, anything else
         // collapses.
-        (
-            BreakerFeatures {
-                cavity: true,
-                ..fold(0.05, 0.1, 0.15)
-            },
-            Plunging,
-        ),
-        (
-            BreakerFeatures {
-                cavity: true,
-                ..fold(0.05, 0.1, 0.05)
-            },
-            Collapsing,
-        ),
-        (fold(0.05, 0.1, 0.15), Collapsing),
-        (
-            BreakerFeatures {
-                cavity: true,
-                ..fold(0.05, 0.02, 0.15)
-            },
-            Collapsing,
-        ),
-        (fold(0.0, 0.0, 0.0), Collapsing),
+        (fold(0.05, 0.1, 0.15, air, !steep), Plunging),
+        (fold(0.05, 0.1, 0.05, air, !steep), Collapsing),
+        (fold(0.05, 0.1, 0.15, !air, !steep), Collapsing),
+        (fold(0.05, 0.02, 0.15, air, !steep), Collapsing),
+        (fold(0.0, 0.0, 0.0, !air, !steep), Collapsing),
     ];
     for (features, expected) in cases {
         assert_eq!(classify(&features), expected, "{features:?}");
