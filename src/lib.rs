@@ -18,6 +18,7 @@ pub mod geometry;
 #[cfg(feature = "lab")]
 pub mod lab;
 pub mod mesh;
+pub mod mesh3d;
 pub mod output;
 pub mod particles;
 pub mod simulation;

@@ -122,6 +122,19 @@ enum Command {
         #[arg(long, value_name = "DIR")]
         out: Option<PathBuf>,
     },
+    /// Time the 3D mesher alone (issue 26): the Delaunay tetrahedralisation of a random or
+    /// lattice cloud, µs per point over several repeats.
+    BenchTetra {
+        /// Number of points.
+        #[arg(long, default_value_t = 100_000)]
+        points: usize,
+        /// A cubic lattice of about that many nodes instead of random points.
+        #[arg(long)]
+        lattice: bool,
+        /// Number of timed repeats.
+        #[arg(long, default_value_t = 5)]
+        repeat: u32,
+    },
     /// Time the step: ms per step by stage, particles and particle-steps per second.
     Bench {
         case: PathBuf,
@@ -168,6 +181,11 @@ fn main() {
         }
         Some(Command::Sweep(args)) => surflab::sweep::cli::main(args).map_err(Into::into),
         Some(Command::Study { dirs, out }) => cmd_study(&dirs, out),
+        Some(Command::BenchTetra {
+            points,
+            lattice,
+            repeat,
+        }) => cmd_bench_tetra(points, lattice, repeat),
         #[cfg(feature = "lab")]
         Some(Command::Lab {
             case,
@@ -447,6 +465,36 @@ fn cmd_study(dirs: &[PathBuf], out: Option<PathBuf>) -> Result<()> {
     for file in surflab::study::write_study(&runs, &out)? {
         println!("wrote {}", file.display());
     }
+    Ok(())
+}
+
+fn cmd_bench_tetra(points: usize, lattice: bool, repeat: u32) -> Result<()> {
+    let limit = surflab::case::max_nodes();
+    if points < 4 || points > limit {
+        bail!("--points must be between 4 and {limit} (--max-particles), got {points}");
+    }
+    if repeat == 0 {
+        bail!("--repeat must be at least 1");
+    }
+    let cloud = surflab::mesh3d::bench_cloud(points, lattice);
+    let kind = if lattice { "lattice" } else { "random" };
+    println!(
+        "surflab bench-tetra: {} {kind} points, one thread",
+        cloud.len()
+    );
+    let mut us_per_point = Vec::new();
+    for r in 1..=repeat {
+        let t0 = Instant::now();
+        let mesh = surflab::mesh3d::tetrahedralise(&cloud);
+        let us = t0.elapsed().as_secs_f64() * 1e6 / cloud.len() as f64;
+        println!(
+            "  repeat {r}: {us:.2} µs per point, {} tetrahedra ({:.2} per point)",
+            mesh.tets.len(),
+            mesh.tets.len() as f64 / cloud.len() as f64
+        );
+        us_per_point.push(us);
+    }
+    println!("median {:.2} µs per point", median(&us_per_point));
     Ok(())
 }
 

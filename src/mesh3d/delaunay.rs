@@ -1,0 +1,517 @@
+//! The 3D Delaunay tetrahedralisation of a particle cloud: incremental Bowyer–Watson on
+//! Shewchuk's exact predicates (the `robust` crate), points inserted in a biased randomised
+//! order (rounds of doubling size, each sorted along a Morton curve) so that each walk to the
+//! new point is short.
+//!
+//! The points are first enclosed in a tetrahedron whose corners lie `FAR` box diagonals away;
+//! the tetrahedra that touch a corner are dropped at the end. A tetrahedron of the points'
+//! own Delaunay tetrahedralisation is missing from the result only if its circumsphere reaches
+//! a corner, i.e. only flat slivers on the convex hull whose circumradius exceeds about
+//! `FAR` / 2 box diagonals: far beyond anything an α-shape keeps (radius < α h).
+//!
+//! Ties (five or more co-spherical points, as on a lattice) are resolved by the insertion
+//! order: a tetrahedron is replaced only when the new point lies strictly inside its
+//! circumsphere, so every tetrahedron returned has an empty circumsphere (no point strictly
+//! inside) and a strictly positive volume.
+
+use robust::{Coord3D, insphere, orient3d};
+
+/// No neighbour across this face (the face is on the boundary of the tetrahedralisation).
+pub const NONE: u32 = u32::MAX;
+
+/// How far the enclosing tetrahedron's corners are, in diagonals of the points' bounding box.
+const FAR: f64 = 1.0e5;
+
+/// The tetrahedra of a point cloud.
+#[derive(Debug, Clone, Default)]
+pub struct Tetrahedralisation {
+    /// Node indices of each tetrahedron, ordered so that `orient3d` of the four is positive.
+    pub tets: Vec<[u32; 4]>,
+    /// `neighbours[t][i]`: the tetrahedron across the face opposite `tets[t][i]`, or [`NONE`].
+    pub neighbours: Vec<[u32; 4]>,
+    /// Points left out because they coincide with an earlier point.
+    pub duplicates: Vec<u32>,
+}
+
+fn coord(p: &[f64; 3]) -> Coord3D<f64> {
+    Coord3D {
+        x: p[0],
+        y: p[1],
+        z: p[2],
+    }
+}
+
+/// `robust`'s orientation of the four nodes: positive for every tetrahedron we keep.
+fn orient(p: &[[f64; 3]], v: [u32; 4]) -> f64 {
+    orient3d(
+        coord(&p[v[0] as usize]),
+        coord(&p[v[1] as usize]),
+        coord(&p[v[2] as usize]),
+        coord(&p[v[3] as usize]),
+    )
+}
+
+/// Positive when `q` lies strictly inside the circumsphere of the positively oriented `v`.
+fn in_sphere(p: &[[f64; 3]], v: [u32; 4], q: &[f64; 3]) -> f64 {
+    insphere(
+        coord(&p[v[0] as usize]),
+        coord(&p[v[1] as usize]),
+        coord(&p[v[2] as usize]),
+        coord(&p[v[3] as usize]),
+        coord(q),
+    )
+}
+
+/// Centre and radius of the sphere through the four points.
+pub fn circumsphere(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> ([f64; 3], f64) {
+    let sub = |u: &[f64; 3], v: &[f64; 3]| [u[0] - v[0], u[1] - v[1], u[2] - v[2]];
+    let cross = |u: [f64; 3], v: [f64; 3]| {
+        [
+            u[1] * v[2] - u[2] * v[1],
+            u[2] * v[0] - u[0] * v[2],
+            u[0] * v[1] - u[1] * v[0],
+        ]
+    };
+    let dot = |u: [f64; 3], v: [f64; 3]| u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
+    let (ba, ca, da) = (sub(b, a), sub(c, a), sub(d, a));
+    let (bb, cc, dd) = (dot(ba, ba), dot(ca, ca), dot(da, da));
+    let (cd, db, bc) = (cross(ca, da), cross(da, ba), cross(ba, ca));
+    let den = 2.0 * dot(ba, cd);
+    let o = [
+        (bb * cd[0] + cc * db[0] + dd * bc[0]) / den,
+        (bb * cd[1] + cc * db[1] + dd * bc[1]) / den,
+        (bb * cd[2] + cc * db[2] + dd * bc[2]) / den,
+    ];
+    ([a[0] + o[0], a[1] + o[1], a[2] + o[2]], dot(o, o).sqrt())
+}
+
+/// Spreads the low 21 bits of `v` to every third bit.
+fn spread3(v: u64) -> u64 {
+    let mut x = v & 0x1f_ffff;
+    x = (x | x << 32) & 0x1f00000000ffff;
+    x = (x | x << 16) & 0x1f0000ff0000ff;
+    x = (x | x << 8) & 0x100f00f00f00f00f;
+    x = (x | x << 4) & 0x10c30c30c30c30c3;
+    (x | x << 2) & 0x1249249249249249
+}
+
+/// A small deterministic generator (SplitMix64) for the insertion order and the walk.
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+}
+
+/// The insertion order: a biased randomised insertion order (Amenta, Choi & Rote 2003) whose
+/// rounds (the last half of the points, the quarter before, …) are each sorted along a Morton
+/// curve of the bounding box.
+fn insertion_order(points: &[[f64; 3]], lo: [f64; 3], extent: f64) -> Vec<u32> {
+    let n = points.len();
+    let mut rng = Rng(0x05ee_d0f5_a1ab);
+    let mut order: Vec<u32> = (0..n as u32).collect();
+    for i in (1..n).rev() {
+        let j = (rng.next() % (i as u64 + 1)) as usize;
+        order.swap(i, j);
+    }
+    let scale = ((1u64 << 21) - 1) as f64 / extent;
+    let key = |i: u32| {
+        let p = &points[i as usize];
+        let q = |k: usize| ((p[k] - lo[k]) * scale) as u64;
+        spread3(q(0)) | spread3(q(1)) << 1 | spread3(q(2)) << 2
+    };
+    let mut keyed: Vec<(u64, u32)> = order.iter().map(|&i| (key(i), i)).collect();
+    let mut end = n;
+    while end > 0 {
+        let start = if end > 64 { end / 2 } else { 0 };
+        keyed[start..end].sort_unstable();
+        end = start;
+    }
+    keyed.into_iter().map(|(_, i)| i).collect()
+}
+
+/// Edge-keyed scratch table pairing the new tetrahedra's inner faces within one insertion.
+struct FaceTable {
+    keys: Vec<u64>,
+    vals: Vec<(u32, u8)>,
+    used: Vec<usize>,
+}
+
+impl FaceTable {
+    const EMPTY: u64 = u64::MAX;
+    fn new() -> Self {
+        Self {
+            keys: vec![Self::EMPTY; 256],
+            vals: vec![(0, 0); 256],
+            used: Vec::new(),
+        }
+    }
+    fn reserve(&mut self, entries: usize) {
+        if 2 * entries > self.keys.len() {
+            let cap = (4 * entries).next_power_of_two();
+            self.keys = vec![Self::EMPTY; cap];
+            self.vals = vec![(0, 0); cap];
+        }
+    }
+    /// Returns the other face stored under `key`, or stores this one.
+    fn pair(&mut self, key: u64, val: (u32, u8)) -> Option<(u32, u8)> {
+        let mask = self.keys.len() - 1;
+        let mut s = (key.wrapping_mul(0x9e37_79b9_7f4a_7c15) >> 40) as usize & mask;
+        loop {
+            if self.keys[s] == Self::EMPTY {
+                self.keys[s] = key;
+                self.vals[s] = val;
+                self.used.push(s);
+                return None;
+            }
+            if self.keys[s] == key {
+                // Each inner edge is shared by exactly two new faces: free the slot's key
+                // lazily (cleared in `clear`), mark it taken by a key no edge has.
+                self.keys[s] = Self::EMPTY - 1;
+                return Some(self.vals[s]);
+            }
+            s = (s + 1) & mask;
+        }
+    }
+    fn clear(&mut self) {
+        for &s in &self.used {
+            self.keys[s] = Self::EMPTY;
+        }
+        self.used.clear();
+    }
+}
+
+/// A tetrahedron's circumsphere, cached as a float filter for [`Builder::conflict`].
+#[derive(Clone, Copy, Default)]
+struct Sphere {
+    c: [f64; 3],
+    r2: f64,
+    err: f64,
+}
+
+impl Sphere {
+    /// The circumsphere of the positively oriented `v`, with `err` a generous bound on the
+    /// centre's rounding error: ε times the tetrahedron's condition κ (longest edge cubed over
+    /// six times its volume) times its size. A sliver has a large bound, and its tests then go
+    /// to the exact predicate.
+    fn of(p: &[[f64; 3]], v: [u32; 4]) -> Sphere {
+        let a = &p[v[0] as usize];
+        let sub = |u: &[f64; 3]| [u[0] - a[0], u[1] - a[1], u[2] - a[2]];
+        let (ba, ca, da) = (
+            sub(&p[v[1] as usize]),
+            sub(&p[v[2] as usize]),
+            sub(&p[v[3] as usize]),
+        );
+        let cross = |u: [f64; 3], w: [f64; 3]| {
+            [
+                u[1] * w[2] - u[2] * w[1],
+                u[2] * w[0] - u[0] * w[2],
+                u[0] * w[1] - u[1] * w[0],
+            ]
+        };
+        let dot = |u: [f64; 3], w: [f64; 3]| u[0] * w[0] + u[1] * w[1] + u[2] * w[2];
+        let (bb, cc, dd) = (dot(ba, ba), dot(ca, ca), dot(da, da));
+        let (cd, db, bc) = (cross(ca, da), cross(da, ba), cross(ba, ca));
+        let six_v = dot(ba, cd);
+        let inv = 0.5 / six_v;
+        let o = [
+            (bb * cd[0] + cc * db[0] + dd * bc[0]) * inv,
+            (bb * cd[1] + cc * db[1] + dd * bc[1]) * inv,
+            (bb * cd[2] + cc * db[2] + dd * bc[2]) * inv,
+        ];
+        let l2 = bb.max(cc).max(dd);
+        let l = l2.sqrt();
+        let r2 = dot(o, o);
+        let kappa = l2 * l / six_v.abs();
+        let c = [a[0] + o[0], a[1] + o[1], a[2] + o[2]];
+        // The centre's error: |δo| ≲ 20 ε κ (l + r) from the quotient, with a margin of ten
+        // (tested against the exact predicate in tests.rs), plus rounding of the absolute
+        // coordinates.
+        let size = c[0].abs().max(c[1].abs()).max(c[2].abs());
+        let err = 256.0 * f64::EPSILON * (kappa * (l + r2.sqrt()) + size);
+        if !(err.is_finite() && r2.is_finite()) {
+            return Sphere {
+                c: [0.0; 3],
+                r2: 0.0,
+                err: f64::INFINITY,
+            };
+        }
+        Sphere { c, r2, err }
+    }
+}
+
+/// One tetrahedron: its nodes (positively oriented) and the tetrahedra across the faces
+/// opposite them.
+#[derive(Clone, Copy)]
+struct Tet {
+    v: [u32; 4],
+    n: [u32; 4],
+}
+
+/// `Builder::mark` of a tetrahedron that was removed.
+const DEAD: u32 = u32::MAX;
+
+struct Builder {
+    p: Vec<[f64; 3]>,
+    tets: Vec<Tet>,
+    /// Each tetrahedron's circumsphere, the float filter of [`Builder::conflict`].
+    spheres: Vec<Sphere>,
+    /// `2 epoch`: in this insertion's cavity; `2 epoch + 1`: tested, not in it; [`DEAD`].
+    mark: Vec<u32>,
+    free: Vec<u32>,
+    epoch: u32,
+    last: u32,
+    rng: Rng,
+    stack: Vec<u32>,
+    cavity: Vec<u32>,
+    /// (cavity tetrahedron, its face, the outer neighbour, the neighbour's face)
+    boundary: Vec<(u32, u8, u32, u8)>,
+    verts: Vec<[u32; 4]>,
+    faces: FaceTable,
+}
+
+impl Builder {
+    fn alloc(&mut self, v: [u32; 4]) -> u32 {
+        let tet = Tet { v, n: [NONE; 4] };
+        let sphere = Sphere::of(&self.p, v);
+        if let Some(t) = self.free.pop() {
+            self.tets[t as usize] = tet;
+            self.spheres[t as usize] = sphere;
+            self.mark[t as usize] = 0;
+            t
+        } else {
+            self.tets.push(tet);
+            self.spheres.push(sphere);
+            self.mark.push(0);
+            (self.tets.len() - 1) as u32
+        }
+    }
+
+    /// Whether `q` lies strictly inside the circumsphere of tetrahedron `t`: the cached sphere
+    /// decides when `q` is clearly in or out, the exact predicate otherwise.
+    fn conflict(&self, t: u32, q: &[f64; 3]) -> bool {
+        let s = &self.spheres[t as usize];
+        let d = [q[0] - s.c[0], q[1] - s.c[1], q[2] - s.c[2]];
+        let d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+        let diff = d2 - s.r2;
+        let tol = 2.0 * (d2.sqrt() + s.r2.sqrt()) * s.err + 8.0 * f64::EPSILON * (d2 + s.r2);
+        if diff < -tol {
+            true
+        } else if diff > tol {
+            false
+        } else {
+            in_sphere(&self.p, self.tets[t as usize].v, q) > 0.0
+        }
+    }
+
+    /// The tetrahedron containing point `q` (closed), by a visibility walk from the last one
+    /// (its faces tried from a random one, so that the walk cannot cycle).
+    fn locate(&mut self, q: u32) -> u32 {
+        let mut t = self.last;
+        'walk: loop {
+            let first = (self.rng.next() & 3) as usize;
+            let tet = self.tets[t as usize];
+            for k in 0..4 {
+                let i = (first + k) & 3;
+                let mut v = tet.v;
+                v[i] = q;
+                if orient(&self.p, v) < 0.0 {
+                    t = tet.n[i];
+                    debug_assert_ne!(t, NONE, "the point left the enclosing tetrahedron");
+                    continue 'walk;
+                }
+            }
+            return t;
+        }
+    }
+
+    /// Inserts point `q` (Bowyer–Watson); false if it coincides with a node.
+    fn insert(&mut self, q: u32) -> bool {
+        let start = self.locate(q);
+        let qp = self.p[q as usize];
+        if !self.conflict(start, &qp) {
+            return false;
+        }
+        // The cavity: the tetrahedra whose circumsphere holds q strictly, connected to start.
+        self.epoch += 1;
+        let (inside, outside) = (2 * self.epoch, 2 * self.epoch + 1);
+        self.cavity.clear();
+        self.boundary.clear();
+        self.stack.clear();
+        self.stack.push(start);
+        self.mark[start as usize] = inside;
+        while let Some(c) = self.stack.pop() {
+            self.cavity.push(c);
+            let nbrs = self.tets[c as usize].n;
+            for (i, &n) in nbrs.iter().enumerate() {
+                if n == NONE {
+                    self.boundary.push((c, i as u8, NONE, 0));
+                    continue;
+                }
+                let m = self.mark[n as usize];
+                if m == inside {
+                    continue;
+                }
+                if m != outside {
+                    if self.conflict(n, &qp) {
+                        self.mark[n as usize] = inside;
+                        self.stack.push(n);
+                        continue;
+                    }
+                    self.mark[n as usize] = outside;
+                }
+                let j = self.tets[n as usize].n.iter().position(|&x| x == c);
+                let j = j.expect("adjacency is symmetric") as u8;
+                self.boundary.push((c, i as u8, n, j));
+            }
+        }
+        // The new tetrahedra: each boundary face joined to q, q taking the place of the node
+        // opposite the face (so positively oriented: q sees the face from the cavity's side).
+        let mut verts = std::mem::take(&mut self.verts);
+        verts.clear();
+        for &(c, i, _, _) in &self.boundary {
+            let mut v = self.tets[c as usize].v;
+            v[i as usize] = q;
+            verts.push(v);
+        }
+        for &c in &self.cavity {
+            self.mark[c as usize] = DEAD;
+            self.free.push(c);
+        }
+        self.faces.reserve(3 * self.boundary.len() / 2);
+        for (b, &v) in verts.iter().enumerate() {
+            let (_, i, n, j) = self.boundary[b];
+            let i = i as usize;
+            let t = self.alloc(v);
+            self.tets[t as usize].n[i] = n;
+            if n != NONE {
+                self.tets[n as usize].n[j as usize] = t;
+            }
+            // The three faces through q: the one opposite v[k] holds q and the boundary
+            // face's edge without v[k]; the new tetrahedron across it shares that edge.
+            for k in (0..4).filter(|&k| k != i) {
+                let (a, b) = match (k.min(i), k.max(i)) {
+                    (0, 1) => (v[2], v[3]),
+                    (0, 2) => (v[1], v[3]),
+                    (0, 3) => (v[1], v[2]),
+                    (1, 2) => (v[0], v[3]),
+                    (1, 3) => (v[0], v[2]),
+                    _ => (v[0], v[1]),
+                };
+                let key = (a.min(b) as u64) << 32 | a.max(b) as u64;
+                if let Some((t2, k2)) = self.faces.pair(key, (t, k as u8)) {
+                    self.tets[t as usize].n[k] = t2;
+                    self.tets[t2 as usize].n[k2 as usize] = t;
+                }
+            }
+            self.last = t;
+        }
+        self.faces.clear();
+        self.verts = verts;
+        true
+    }
+}
+
+/// The Delaunay tetrahedralisation of `points` (see the module's notes on ties and on the
+/// enclosing tetrahedron). Points that are not finite are a caller's bug: they panic.
+pub fn tetrahedralise(points: &[[f64; 3]]) -> Tetrahedralisation {
+    let n = points.len();
+    assert!(
+        n < (u32::MAX - 8) as usize,
+        "too many points for u32 indices"
+    );
+    assert!(
+        points.iter().flatten().all(|x| x.is_finite()),
+        "a point is not finite"
+    );
+    if n < 4 {
+        return Tetrahedralisation::default();
+    }
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in points {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let diag = ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2) + (hi[2] - lo[2]).powi(2))
+        .sqrt()
+        .max(f64::MIN_POSITIVE.sqrt());
+    let extent = (0..3)
+        .map(|k| hi[k] - lo[k])
+        .fold(0.0, f64::max)
+        .max(diag * 1e-12);
+    let centre = [
+        0.5 * (lo[0] + hi[0]),
+        0.5 * (lo[1] + hi[1]),
+        0.5 * (lo[2] + hi[2]),
+    ];
+    // A regular tetrahedron's corners (±1, ±1, ±1 with an even number of minus signs).
+    let r = FAR * diag;
+    let corner = |s: [f64; 3]| {
+        [
+            centre[0] + s[0] * r,
+            centre[1] + s[1] * r,
+            centre[2] + s[2] * r,
+        ]
+    };
+    let mut p = points.to_vec();
+    p.push(corner([1.0, 1.0, 1.0]));
+    p.push(corner([1.0, -1.0, -1.0]));
+    p.push(corner([-1.0, 1.0, -1.0]));
+    p.push(corner([-1.0, -1.0, 1.0]));
+    let s = n as u32;
+    let mut first = [s, s + 1, s + 2, s + 3];
+    if orient(&p, first) < 0.0 {
+        first.swap(0, 1);
+    }
+    let mut b = Builder {
+        p,
+        tets: Vec::with_capacity(7 * n),
+        spheres: Vec::with_capacity(7 * n),
+        mark: Vec::with_capacity(7 * n),
+        free: Vec::new(),
+        epoch: 0,
+        last: 0,
+        rng: Rng(0x0ddba11),
+        stack: Vec::new(),
+        cavity: Vec::new(),
+        boundary: Vec::new(),
+        verts: Vec::new(),
+        faces: FaceTable::new(),
+    };
+    b.alloc(first);
+    let mut duplicates = Vec::new();
+    for q in insertion_order(points, lo, extent) {
+        if !b.insert(q) {
+            duplicates.push(q);
+        }
+    }
+    // Keep the tetrahedra of the points alone; renumber them and their neighbours.
+    let mut index = vec![NONE; b.tets.len()];
+    let mut out = Tetrahedralisation {
+        duplicates,
+        ..Default::default()
+    };
+    for t in 0..b.tets.len() {
+        if b.mark[t] != DEAD && b.tets[t].v.iter().all(|&v| v < s) {
+            index[t] = out.tets.len() as u32;
+            out.tets.push(b.tets[t].v);
+        }
+    }
+    for t in 0..b.tets.len() {
+        if index[t] != NONE {
+            out.neighbours.push(
+                b.tets[t]
+                    .n
+                    .map(|m| if m == NONE { NONE } else { index[m as usize] }),
+            );
+        }
+    }
+    out
+}
