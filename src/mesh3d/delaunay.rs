@@ -190,14 +190,17 @@ impl FaceTable {
 struct Sphere {
     c: [f64; 3],
     r2: f64,
-    err: f64,
+    /// The rounding bound on |q − c|² − r² for any q within 2 r of the centre; infinite
+    /// for a sliver whose centre is not to be trusted (then only the exact test decides).
+    tol: f64,
 }
 
 impl Sphere {
-    /// The circumsphere of the positively oriented `v`, with `err` a generous bound on the
-    /// centre's rounding error: ε times the tetrahedron's condition κ (longest edge cubed over
-    /// six times its volume) times its size. A sliver has a large bound, and its tests then go
-    /// to the exact predicate.
+    /// The circumsphere of the positively oriented `v` and its filter's tolerance, from a
+    /// generous bound `err` on the centre's rounding error: ε times the tetrahedron's
+    /// condition κ (longest edge cubed over six times its volume) times its size. Computing
+    /// |q − c|² − r² then errs by at most 2 (d + r) err + 8 ε (d² + r²), d = |q − c|, which
+    /// for d ≤ 2 r is at most 6 r err + 40 ε r².
     fn of(p: &[[f64; 3]], v: [u32; 4]) -> Sphere {
         let a = &p[v[0] as usize];
         let sub = |u: &[f64; 3]| [u[0] - a[0], u[1] - a[1], u[2] - a[2]];
@@ -232,15 +235,16 @@ impl Sphere {
         // (tested against the exact predicate in tests.rs), plus rounding of the absolute
         // coordinates.
         let size = c[0].abs().max(c[1].abs()).max(c[2].abs());
-        let err = 256.0 * f64::EPSILON * (kappa * (l + r2.sqrt()) + size);
-        if !(err.is_finite() && r2.is_finite()) {
-            return Sphere {
-                c: [0.0; 3],
-                r2: 0.0,
-                err: f64::INFINITY,
-            };
-        }
-        Sphere { c, r2, err }
+        let r = r2.sqrt();
+        let err = 256.0 * f64::EPSILON * (kappa * (l + r) + size);
+        // Past 2 r the point is outside with room to spare as long as err ≤ r / 8
+        // (d² − r² ≥ ¾ d² against a rounding of at most 3/16 d² + 8 ε (d² + r²)).
+        let tol = if err.is_finite() && r2.is_finite() && err <= r / 8.0 {
+            6.0 * r * err + 40.0 * f64::EPSILON * r2
+        } else {
+            f64::INFINITY
+        };
+        Sphere { c, r2, tol }
     }
 }
 
@@ -298,14 +302,15 @@ impl Builder {
         let d = [q[0] - s.c[0], q[1] - s.c[1], q[2] - s.c[2]];
         let d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
         let diff = d2 - s.r2;
-        let tol = 2.0 * (d2.sqrt() + s.r2.sqrt()) * s.err + 8.0 * f64::EPSILON * (d2 + s.r2);
-        if diff < -tol {
-            true
-        } else if diff > tol {
-            false
-        } else {
-            in_sphere(&self.p, self.tets[t as usize].v, q) > 0.0
+        if s.tol.is_finite() {
+            if d2 > 4.0 * s.r2 || diff > s.tol {
+                return false;
+            }
+            if diff < -s.tol {
+                return true;
+            }
         }
+        in_sphere(&self.p, self.tets[t as usize].v, q) > 0.0
     }
 
     /// The tetrahedron containing point `q` (closed), by a visibility walk from the last one
