@@ -248,24 +248,24 @@ impl Sphere {
     }
 }
 
-/// One tetrahedron: its nodes (positively oriented) and the tetrahedra across the faces
-/// opposite them.
+/// One tetrahedron: its nodes (positively oriented), the tetrahedra across the faces opposite
+/// them, its circumsphere (the float filter of [`Builder::conflict`]) and its mark, together
+/// so that testing a neighbour reads one place in memory.
 #[derive(Clone, Copy)]
 struct Tet {
     v: [u32; 4],
     n: [u32; 4],
+    sphere: Sphere,
+    /// `2 epoch`: in this insertion's cavity; `2 epoch + 1`: tested, not in it; [`DEAD`].
+    mark: u32,
 }
 
-/// `Builder::mark` of a tetrahedron that was removed.
+/// [`Tet::mark`] of a tetrahedron that was removed.
 const DEAD: u32 = u32::MAX;
 
 struct Builder {
     p: Vec<[f64; 3]>,
     tets: Vec<Tet>,
-    /// Each tetrahedron's circumsphere, the float filter of [`Builder::conflict`].
-    spheres: Vec<Sphere>,
-    /// `2 epoch`: in this insertion's cavity; `2 epoch + 1`: tested, not in it; [`DEAD`].
-    mark: Vec<u32>,
     free: Vec<u32>,
     epoch: u32,
     last: u32,
@@ -280,17 +280,17 @@ struct Builder {
 
 impl Builder {
     fn alloc(&mut self, v: [u32; 4]) -> u32 {
-        let tet = Tet { v, n: [NONE; 4] };
-        let sphere = Sphere::of(&self.p, v);
+        let tet = Tet {
+            v,
+            n: [NONE; 4],
+            sphere: Sphere::of(&self.p, v),
+            mark: 0,
+        };
         if let Some(t) = self.free.pop() {
             self.tets[t as usize] = tet;
-            self.spheres[t as usize] = sphere;
-            self.mark[t as usize] = 0;
             t
         } else {
             self.tets.push(tet);
-            self.spheres.push(sphere);
-            self.mark.push(0);
             (self.tets.len() - 1) as u32
         }
     }
@@ -298,7 +298,7 @@ impl Builder {
     /// Whether `q` lies strictly inside the circumsphere of tetrahedron `t`: the cached sphere
     /// decides when `q` is clearly in or out, the exact predicate otherwise.
     fn conflict(&self, t: u32, q: &[f64; 3]) -> bool {
-        let s = &self.spheres[t as usize];
+        let s = &self.tets[t as usize].sphere;
         let d = [q[0] - s.c[0], q[1] - s.c[1], q[2] - s.c[2]];
         let d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
         let diff = d2 - s.r2;
@@ -348,7 +348,7 @@ impl Builder {
         self.boundary.clear();
         self.stack.clear();
         self.stack.push(start);
-        self.mark[start as usize] = inside;
+        self.tets[start as usize].mark = inside;
         while let Some(c) = self.stack.pop() {
             self.cavity.push(c);
             let nbrs = self.tets[c as usize].n;
@@ -357,17 +357,17 @@ impl Builder {
                     self.boundary.push((c, i as u8, NONE, 0));
                     continue;
                 }
-                let m = self.mark[n as usize];
+                let m = self.tets[n as usize].mark;
                 if m == inside {
                     continue;
                 }
                 if m != outside {
                     if self.conflict(n, &qp) {
-                        self.mark[n as usize] = inside;
+                        self.tets[n as usize].mark = inside;
                         self.stack.push(n);
                         continue;
                     }
-                    self.mark[n as usize] = outside;
+                    self.tets[n as usize].mark = outside;
                 }
                 let j = self.tets[n as usize].n.iter().position(|&x| x == c);
                 let j = j.expect("adjacency is symmetric") as u8;
@@ -384,7 +384,7 @@ impl Builder {
             verts.push(v);
         }
         for &c in &self.cavity {
-            self.mark[c as usize] = DEAD;
+            self.tets[c as usize].mark = DEAD;
             self.free.push(c);
         }
         self.faces.reserve(3 * self.boundary.len() / 2);
@@ -478,8 +478,6 @@ pub fn tetrahedralise(points: &[[f64; 3]]) -> Tetrahedralisation {
     let mut b = Builder {
         p,
         tets: Vec::with_capacity(7 * n),
-        spheres: Vec::with_capacity(7 * n),
-        mark: Vec::with_capacity(7 * n),
         free: Vec::new(),
         epoch: 0,
         last: 0,
@@ -504,7 +502,7 @@ pub fn tetrahedralise(points: &[[f64; 3]]) -> Tetrahedralisation {
         ..Default::default()
     };
     for t in 0..b.tets.len() {
-        if b.mark[t] != DEAD && b.tets[t].v.iter().all(|&v| v < s) {
+        if b.tets[t].mark != DEAD && b.tets[t].v.iter().all(|&v| v < s) {
             index[t] = out.tets.len() as u32;
             out.tets.push(b.tets[t].v);
         }
