@@ -1,7 +1,8 @@
 //! surflab: a 2D Lagrangian wave flume solved with the Particle Finite Element Method.
 //!
 //! Layers, each knowing only those below it: `case` (what to run) → `geometry`, `particles`
-//! (the state) → `mesh` (Delaunay + α-shape) → `fem` (P1 kernels) → `solver` (the fractional
+//! (the state) → `mesh` (Delaunay + α-shape; `mesh3d`, the 3D tetrahedralisation) → `fem` (P1
+//! kernels; `fem::tet`, the tetrahedron's) → `solver` (the fractional
 //! step) → `wavemaker` (the paddle as a moving wall; its theory is in `waves`) → `simulation`
 //! (clock, Δt) → `diagnostics` (observers that read) → `output` (observers
 //! that write: .rrd, CSV, JSON) → `validation` (what `surflab validate` checks in the records

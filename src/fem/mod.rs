@@ -10,6 +10,7 @@
 //! −2μ_e A S_e b_i, with S_e the element's strain rate.
 
 pub mod polygon;
+pub mod tet;
 
 use crate::case::TauFormula;
 use nalgebra::{Matrix2, Vector2};
