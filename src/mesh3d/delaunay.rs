@@ -1,6 +1,6 @@
 //! The 3D Delaunay tetrahedralisation of a particle cloud: incremental Bowyer–Watson on
 //! Shewchuk's exact predicates (the `robust` crate), points inserted in a biased randomised
-//! order (rounds of doubling size, each sorted along a Morton curve) so that each walk to the
+//! order (rounds of doubling size, each sorted along a Hilbert curve) so that each walk to the
 //! new point is short.
 //!
 //! The points are first enclosed in a tetrahedron whose corners lie `FAR` box diagonals away;
@@ -95,6 +95,41 @@ fn spread3(v: u64) -> u64 {
     (x | x << 2) & 0x1249249249249249
 }
 
+/// The position of a cell of the 2²¹-cell grid along a 3D Hilbert curve (Skilling 2004: the
+/// coordinates turned into the curve's transposed index, then interleaved).
+fn hilbert3(mut x: [u32; 3]) -> u64 {
+    const BITS: u32 = 21;
+    let m = 1u32 << (BITS - 1);
+    let mut q = m;
+    while q > 1 {
+        let p = q - 1;
+        for i in 0..3 {
+            if x[i] & q != 0 {
+                x[0] ^= p;
+            } else {
+                let t = (x[0] ^ x[i]) & p;
+                x[0] ^= t;
+                x[i] ^= t;
+            }
+        }
+        q >>= 1;
+    }
+    x[1] ^= x[0];
+    x[2] ^= x[1];
+    let mut t = 0;
+    let mut q = m;
+    while q > 1 {
+        if x[2] & q != 0 {
+            t ^= q - 1;
+        }
+        q >>= 1;
+    }
+    for v in &mut x {
+        *v ^= t;
+    }
+    spread3(x[0] as u64) << 2 | spread3(x[1] as u64) << 1 | spread3(x[2] as u64)
+}
+
 /// A small deterministic generator (SplitMix64) for the insertion order and the walk.
 struct Rng(u64);
 impl Rng {
@@ -108,7 +143,7 @@ impl Rng {
 }
 
 /// The insertion order: a biased randomised insertion order (Amenta, Choi & Rote 2003) whose
-/// rounds (the last half of the points, the quarter before, …) are each sorted along a Morton
+/// rounds (the last half of the points, the quarter before, …) are each sorted along a Hilbert
 /// curve of the bounding box.
 fn insertion_order(points: &[[f64; 3]], lo: [f64; 3], extent: f64) -> Vec<u32> {
     let n = points.len();
@@ -121,8 +156,8 @@ fn insertion_order(points: &[[f64; 3]], lo: [f64; 3], extent: f64) -> Vec<u32> {
     let scale = ((1u64 << 21) - 1) as f64 / extent;
     let key = |i: u32| {
         let p = &points[i as usize];
-        let q = |k: usize| ((p[k] - lo[k]) * scale) as u64;
-        spread3(q(0)) | spread3(q(1)) << 1 | spread3(q(2)) << 2
+        let q = |k: usize| ((p[k] - lo[k]) * scale) as u32;
+        hilbert3([q(0), q(1), q(2)])
     };
     let mut keyed: Vec<(u64, u32)> = order.iter().map(|&i| (key(i), i)).collect();
     let mut end = n;
@@ -229,7 +264,7 @@ impl Sphere {
         let l2 = bb.max(cc).max(dd);
         let l = l2.sqrt();
         let r2 = dot(o, o);
-        let kappa = l2 * l / six_v.abs();
+        let kappa = 2.0 * l2 * l * inv.abs();
         let c = [a[0] + o[0], a[1] + o[1], a[2] + o[2]];
         // The centre's error: |δo| ≲ 20 ε κ (l + r) from the quotient, with a margin of ten
         // (tested against the exact predicate in tests.rs), plus rounding of the absolute
@@ -465,7 +500,10 @@ pub fn tetrahedralise(points: &[[f64; 3]]) -> Tetrahedralisation {
             centre[2] + s[2] * r,
         ]
     };
-    let mut p = points.to_vec();
+    // The builder numbers the points in insertion order, so that points near one another
+    // along the curve are near one another in memory too; `order` maps back.
+    let order = insertion_order(points, lo, extent);
+    let mut p: Vec<[f64; 3]> = order.iter().map(|&i| points[i as usize]).collect();
     p.push(corner([1.0, 1.0, 1.0]));
     p.push(corner([1.0, -1.0, -1.0]));
     p.push(corner([-1.0, 1.0, -1.0]));
@@ -490,9 +528,9 @@ pub fn tetrahedralise(points: &[[f64; 3]]) -> Tetrahedralisation {
     };
     b.alloc(first);
     let mut duplicates = Vec::new();
-    for q in insertion_order(points, lo, extent) {
+    for q in 0..s {
         if !b.insert(q) {
-            duplicates.push(q);
+            duplicates.push(order[q as usize]);
         }
     }
     // Keep the tetrahedra of the points alone; renumber them and their neighbours.
@@ -504,7 +542,7 @@ pub fn tetrahedralise(points: &[[f64; 3]]) -> Tetrahedralisation {
     for t in 0..b.tets.len() {
         if b.tets[t].mark != DEAD && b.tets[t].v.iter().all(|&v| v < s) {
             index[t] = out.tets.len() as u32;
-            out.tets.push(b.tets[t].v);
+            out.tets.push(b.tets[t].v.map(|v| order[v as usize]));
         }
     }
     for t in 0..b.tets.len() {
@@ -517,4 +555,29 @@ pub fn tetrahedralise(points: &[[f64; 3]]) -> Tetrahedralisation {
         }
     }
     out
+}
+
+#[cfg(test)]
+mod curve_tests {
+    use super::hilbert3;
+
+    #[test]
+    fn the_hilbert_order_steps_to_a_neighbouring_cell() {
+        // The 8 × 8 × 8 cells of the grid's top three bits, sorted by their curve position:
+        // each is a face neighbour of the one before.
+        let mut cells = Vec::new();
+        for i in 0..8u32 {
+            for j in 0..8u32 {
+                for k in 0..8u32 {
+                    let key = hilbert3([i << 18, j << 18, k << 18]);
+                    cells.push((key, [i as i32, j as i32, k as i32]));
+                }
+            }
+        }
+        cells.sort_unstable();
+        for w in cells.windows(2) {
+            let step: i32 = (0..3).map(|a| (w[0].1[a] - w[1].1[a]).abs()).sum();
+            assert_eq!(step, 1, "{:?} → {:?}", w[0].1, w[1].1);
+        }
+    }
 }
