@@ -1,22 +1,13 @@
 //! 3D remeshing (issue 26), the first stage: the Delaunay tetrahedralisation of a particle
-//! cloud and the α-shape's radius test on it. The 3D solver path (kernels, fractional step,
-//! walls) is not built yet; `surflab bench-tetra` times this stage alone.
+//! cloud (`delaunay`) and the α-shape on it (`alpha`: kept tetrahedra, free surface, slivers).
+//! The 3D solver path (fractional step, walls, nodes) is not built yet; `surflab bench-tetra`
+//! times the tetrahedralisation alone.
 
+pub mod alpha;
 pub mod delaunay;
 
+pub use alpha::{AlphaShape, SLIVER_QUALITY, alpha_shape, quality};
 pub use delaunay::{NONE, Tetrahedralisation, circumsphere, tetrahedralise};
-
-/// The tetrahedra an α-shape keeps by its radius test: circumradius < `alpha_h_m` (α times the
-/// particle spacing h, in metres). The wall rules of the 2D mesher (all-wall elements) are the
-/// solver path's, not this test's.
-pub fn alpha_kept(points: &[[f64; 3]], mesh: &Tetrahedralisation, alpha_h_m: f64) -> Vec<u32> {
-    (0..mesh.tets.len() as u32)
-        .filter(|&t| {
-            let v = mesh.tets[t as usize].map(|i| &points[i as usize]);
-            circumsphere(v[0], v[1], v[2], v[3]).1 < alpha_h_m
-        })
-        .collect()
-}
 
 /// The clouds `surflab bench-tetra` times: `n` random points in the unit cube (a fixed
 /// xorshift sequence), or the cubic lattice of about `n` nodes (every cube's corners

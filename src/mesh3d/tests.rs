@@ -179,7 +179,170 @@ fn the_alpha_test_keeps_a_lattices_cubes() {
     // A cube's tetrahedra have circumradius √3 h / 2 ≈ 0.87 h: kept at α = 1.2, dropped at 0.8.
     let h = 0.1;
     let p = lattice(5, 5, 5, h);
+    let fluid = vec![0u16; p.len()];
     let mesh = tetrahedralise(&p);
-    assert_eq!(alpha_kept(&p, &mesh, 1.2 * h).len(), mesh.tets.len());
-    assert!(alpha_kept(&p, &mesh, 0.8 * h).is_empty());
+    assert_eq!(
+        alpha_shape(&p, &fluid, &mesh, 1.2 * h).kept.len(),
+        mesh.tets.len()
+    );
+    assert!(alpha_shape(&p, &fluid, &mesh, 0.8 * h).kept.is_empty());
+}
+
+/// A tank of still water on a lattice: one layer of wall nodes on the bottom and the four
+/// sides (one bit each in the node's wall mask), fluid nodes inside, the top layer free;
+/// `jitter` moves the fluid nodes (the free ones on top too) by up to ± half that fraction of h
+/// (a fixed xorshift sequence). Returns the points and their wall masks.
+fn lattice_tank(nx: usize, ny: usize, nz: usize, h: f64, jitter: f64) -> (Vec<[f64; 3]>, Vec<u16>) {
+    let mut s: u64 = 0x9e37_79b9_7f4a_7c15;
+    let mut r = move || {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    };
+    let (mut p, mut wall) = (Vec::new(), Vec::new());
+    for i in 0..nx {
+        for j in 0..ny {
+            for k in 0..nz {
+                let mask = (k == 0) as u16
+                    | ((i == 0) as u16) << 1
+                    | ((i == nx - 1) as u16) << 2
+                    | ((j == 0) as u16) << 3
+                    | ((j == ny - 1) as u16) << 4;
+                let d = if mask == 0 { jitter * h } else { 0.0 };
+                p.push([
+                    i as f64 * h + d * r(),
+                    j as f64 * h + d * r(),
+                    k as f64 * h + d * r(),
+                ]);
+                wall.push(mask);
+            }
+        }
+    }
+    (p, wall)
+}
+
+fn kept_volume(p: &[[f64; 3]], mesh: &Tetrahedralisation, shape: &AlphaShape) -> f64 {
+    shape
+        .kept
+        .iter()
+        .map(|&t| volume(p, mesh.tets[t as usize]))
+        .sum()
+}
+
+#[test]
+fn a_lattice_tank_keeps_its_water_and_frees_its_top() {
+    let (nx, ny, nz, h) = (8, 8, 5, 0.02);
+    let (p, wall) = lattice_tank(nx, ny, nz, h, 0.0);
+    let mesh = tetrahedralise(&p);
+    let shape = alpha_shape(&p, &wall, &mesh, 1.2 * h);
+    let (lx, ly, lz) = (7.0 * h, 7.0 * h, 4.0 * h);
+    let water = kept_volume(&p, &mesh, &shape);
+    // The surface: area and outward normal, +z everywhere.
+    let mut area = 0.0;
+    for f in &shape.surface {
+        let [a, b, c] = f.map(|i| p[i as usize]);
+        let nrm = [
+            (b[1] - a[1]) * (c[2] - a[2]) - (b[2] - a[2]) * (c[1] - a[1]),
+            (b[2] - a[2]) * (c[0] - a[0]) - (b[0] - a[0]) * (c[2] - a[2]),
+            (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]),
+        ];
+        assert!(nrm[2] > 0.0 && nrm[0].abs() < 1e-15 && nrm[1].abs() < 1e-15);
+        area += 0.5 * nrm[2];
+    }
+    let top = (0..p.len())
+        .filter(|&i| (p[i][2] - lz).abs() < 1e-12)
+        .count();
+    let free = shape.free_surface.iter().filter(|&&f| f).count();
+    println!(
+        "tank {nx}×{ny}×{nz}: {} of {} tetrahedra kept, volume {water:.3e} of {:.3e} m³, \
+         surface {area:.3e} of {:.3e} m², {free} free-surface nodes of {top} on top, slivers {}",
+        shape.kept.len(),
+        mesh.tets.len(),
+        lx * ly * lz,
+        lx * ly,
+        shape.slivers_kept + shape.slivers_dropped
+    );
+    assert!((water - lx * ly * lz).abs() < 1e-12 * lx * ly * lz);
+    assert!((area - lx * ly).abs() < 1e-12 * lx * ly);
+    assert_eq!(free, top);
+    assert!(shape.in_mesh.iter().all(|&m| m));
+    assert_eq!(shape.slivers_kept + shape.slivers_dropped, 0);
+}
+
+#[test]
+fn an_all_wall_tank_without_water_keeps_nothing() {
+    let h = 0.02;
+    let (p, _) = lattice_tank(6, 6, 4, h, 0.0);
+    let all_wall = vec![1u16; p.len()];
+    let mesh = tetrahedralise(&p);
+    let shape = alpha_shape(&p, &all_wall, &mesh, 1.2 * h);
+    assert!(shape.kept.is_empty() && shape.surface.is_empty());
+}
+
+#[test]
+fn slivers_of_a_jittered_tank_are_kept_inside_and_peeled_off_the_surface() {
+    let (nx, ny, nz, h) = (12, 12, 8, 0.02);
+    let (p, wall) = lattice_tank(nx, ny, nz, h, 0.3);
+    let mesh = tetrahedralise(&p);
+    let shape = alpha_shape(&p, &wall, &mesh, 1.2 * h);
+    let box_volume = (11.0 * h) * (11.0 * h) * (7.0 * h);
+    let water = kept_volume(&p, &mesh, &shape);
+    let slivers_left_on_surface = shape
+        .kept
+        .iter()
+        .filter(|&&t| {
+            let v = mesh.tets[t as usize].map(|i| &p[i as usize]);
+            quality(v) < SLIVER_QUALITY
+                && shape
+                    .surface
+                    .iter()
+                    .any(|f| f.iter().all(|i| mesh.tets[t as usize].contains(i)))
+        })
+        .count();
+    println!(
+        "jittered tank (±0.15 h): {} tetrahedra, {} kept; slivers kept inside {}, dropped from \
+         the surface {}; volume {:.4} of the box",
+        mesh.tets.len(),
+        shape.kept.len(),
+        shape.slivers_kept,
+        shape.slivers_dropped,
+        water / box_volume
+    );
+    assert_eq!(slivers_left_on_surface, 0);
+    assert!(
+        shape.slivers_kept > 0 && shape.slivers_dropped > 0,
+        "the jitter made no sliver inside or on the surface: the test tests nothing"
+    );
+    assert!((water / box_volume - 1.0).abs() < 0.01);
+}
+
+#[test]
+fn quality_of_the_regular_and_kuhn_tetrahedra() {
+    let s = 2f64.sqrt();
+    let regular = [
+        [1.0, 0.0, -1.0 / s],
+        [-1.0, 0.0, -1.0 / s],
+        [0.0, 1.0, 1.0 / s],
+        [0.0, -1.0, 1.0 / s],
+    ];
+    assert!((quality([&regular[0], &regular[1], &regular[2], &regular[3]]) - 1.0).abs() < 1e-14);
+    let kuhn = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [1.0, 1.0, 1.0],
+    ];
+    let q = quality([&kuhn[0], &kuhn[1], &kuhn[2], &kuhn[3]]);
+    assert!(
+        (q - 2f64.sqrt() / (10.0f64 / 6.0).powf(1.5)).abs() < 1e-14,
+        "{q}"
+    );
+    let flat = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+    ];
+    assert_eq!(quality([&flat[0], &flat[1], &flat[2], &flat[3]]), 0.0);
 }
