@@ -1,12 +1,12 @@
 //! surflab: a 2D Lagrangian wave flume solved with the Particle Finite Element Method.
 //!
 //! Layers, each knowing only those below it: `case` (what to run) → `geometry`, `particles`
-//! (the state) → `mesh` (Delaunay + α-shape; `mesh3d`, the 3D tetrahedralisation) → `fem` (P1
-//! kernels; `fem::tet`, the tetrahedron's) → `solver` (the fractional
+//! (the state) → `mesh` (Delaunay + α-shape) → `fem` (P1 kernels) → `solver` (the fractional
 //! step) → `wavemaker` (the paddle as a moving wall; its theory is in `waves`) → `simulation`
 //! (clock, Δt) → `diagnostics` (observers that read) → `output` (observers
 //! that write: .rrd, CSV, JSON) → `validation` (what `surflab validate` checks in the records
-//! a run wrote).
+//! a run wrote). The 3D path (issue 26) grows beside them: `mesh3d` (tetrahedralisation,
+//! α-shape), `fem::tet` (the tetrahedron's kernels), `solver3d` (the step's pressure).
 
 // The numerics walk several parallel arrays (struct of arrays) by node index; an index loop
 // says that more plainly than zipped iterators.
@@ -24,6 +24,7 @@ pub mod output;
 pub mod particles;
 pub mod simulation;
 pub mod solver;
+pub mod solver3d;
 pub mod study;
 pub mod sweep;
 pub mod validation;
