@@ -123,5 +123,80 @@ pub fn correct(
         .collect())
 }
 
+/// The state of a 3D flow of particles: the least loop that remeshes and projects every
+/// step (inviscid predictor; viscosity, the wall guard and node management are not built).
+#[derive(Debug, Clone)]
+pub struct Flow3 {
+    /// Node positions, m.
+    pub x: Vec<[f64; 3]>,
+    /// Node velocities, m/s (zero on walls).
+    pub u: Vec<Vector3<f64>>,
+    /// Per node, one bit per wall plane it lies on (0: fluid); see `mesh3d::alpha_shape`.
+    pub walls: Vec<u16>,
+    /// The last step's pressure, Pa.
+    pub p: Vec<f64>,
+    /// α h, m.
+    pub alpha_h_m: f64,
+    pub rho_kg_m3: f64,
+    pub gravity_m_s2: Vector3<f64>,
+}
+
+/// What one step of [`Flow3`] measured.
+#[derive(Debug, Clone, Copy)]
+pub struct Step3 {
+    /// Volume of the kept tetrahedra at the start of the step, m³.
+    pub volume_m3: f64,
+    pub tetrahedra: usize,
+    pub slivers_kept: usize,
+}
+
+impl Flow3 {
+    /// One step of Δt: tetrahedralise, α-shape, predict u* = u + Δt g, solve the pressure,
+    /// correct, hold the walls, move the fluid nodes.
+    pub fn step(&mut self, dt_s: f64) -> Result<Step3, PressureError> {
+        let mesh = crate::mesh3d::tetrahedralise(&self.x);
+        let shape = crate::mesh3d::alpha_shape(&self.x, &self.walls, &mesh, self.alpha_h_m);
+        let volume_m3 = shape
+            .kept
+            .iter()
+            .map(|&t| {
+                let v = mesh.tets[t as usize].map(|i| Vector3::from(self.x[i as usize]));
+                p1_tet(v).map_or(0.0, |e| e.volume)
+            })
+            .sum();
+        // On a wall node u* is what the water beside it predicts; the wall's u·n = 0 enters
+        // through the pressure's natural boundary condition.
+        let u_star: Vec<Vector3<f64>> = self
+            .u
+            .iter()
+            .map(|u| u + self.gravity_m_s2 * dt_s)
+            .collect();
+        self.p = pressure(&self.x, &mesh, &shape, &u_star, self.rho_kg_m3, dt_s)?;
+        self.u = correct(
+            &self.x,
+            &mesh,
+            &shape,
+            &u_star,
+            &self.p,
+            self.rho_kg_m3,
+            dt_s,
+        )?;
+        for i in 0..self.x.len() {
+            if self.walls[i] != 0 {
+                self.u[i] = Vector3::zeros();
+            } else {
+                for k in 0..3 {
+                    self.x[i][k] += dt_s * self.u[i][k];
+                }
+            }
+        }
+        Ok(Step3 {
+            volume_m3,
+            tetrahedra: shape.kept.len(),
+            slivers_kept: shape.slivers_kept,
+        })
+    }
+}
+
 #[cfg(test)]
 mod tests;
