@@ -1,6 +1,7 @@
-//! The 3D fractional step (issue 26), first piece: the pressure Poisson equation of one step on
-//! the α-shape's tetrahedra, and the end-of-step velocity. The time loop, walls' guard, node
-//! management and the wavemaker are not built yet.
+//! The 3D fractional step (issue 26), first pieces: the pressure Poisson equation of one step on
+//! the α-shape's tetrahedra, the end-of-step velocity, and [`Flow3`], the least time loop
+//! around them. The viscous predictor, the walls' guard, node management and the wavemaker are
+//! not built yet.
 //!
 //! Strong form, as in 2D (method.md §1): ∇²p = (ρ/Δt) ∇·u*, p = 0 on the free surface, and on
 //! a wall u·n = 0 at the end of the step, i.e. ∂p/∂n = (ρ/Δt) u*·n. Weakly, with the wall
@@ -24,6 +25,8 @@ pub enum PressureError {
     Matrix(String),
     #[error("the pressure matrix is not positive definite: a body of water has no free surface")]
     NotDefinite,
+    #[error("the flow diverged: {0}")]
+    Diverged(String),
 }
 
 /// The pressure (Pa) at every node (0 off the mesh and on the free surface) for the predicted
@@ -83,6 +86,12 @@ pub fn pressure(
     for i in 0..n {
         if unknown[i] != u32::MAX {
             p[i] = x[(unknown[i] as usize, 0)];
+            if !p[i].is_finite() {
+                return Err(PressureError::Diverged(format!(
+                    "the pressure at node {i} is {}",
+                    p[i]
+                )));
+            }
         }
     }
     Ok(p)
@@ -154,6 +163,14 @@ impl Flow3 {
     /// One step of Δt: tetrahedralise, α-shape, predict u* = u + Δt g, solve the pressure,
     /// correct, hold the walls, move the fluid nodes.
     pub fn step(&mut self, dt_s: f64) -> Result<Step3, PressureError> {
+        if let Some(i) = (0..self.x.len()).find(|&i| {
+            !(self.x[i].iter().all(|c| c.is_finite()) && self.u[i].iter().all(|c| c.is_finite()))
+        }) {
+            return Err(PressureError::Diverged(format!(
+                "node {i} is at {:?} with velocity {:?}",
+                self.x[i], self.u[i]
+            )));
+        }
         let mesh = crate::mesh3d::tetrahedralise(&self.x);
         let shape = crate::mesh3d::alpha_shape(&self.x, &self.walls, &mesh, self.alpha_h_m);
         let volume_m3 = shape

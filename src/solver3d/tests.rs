@@ -140,3 +140,22 @@ fn still_water_stays_still_over_two_seconds_of_remeshing() {
     assert!(err_p < 0.02);
     assert!(drift < 1e-3);
 }
+
+#[test]
+fn a_diverged_flow_stops_with_a_message() {
+    let h = 0.02;
+    let (x, walls) = tank(4, 4, 4, h, 0.0);
+    let n = x.len();
+    let mut flow = Flow3 {
+        x,
+        u: vec![Vector3::zeros(); n],
+        walls,
+        p: vec![0.0; n],
+        alpha_h_m: 1.2 * h,
+        rho_kg_m3: RHO,
+        gravity_m_s2: Vector3::new(0.0, 0.0, -G),
+    };
+    flow.u[21] = Vector3::new(f64::NAN, 0.0, 0.0);
+    let err = flow.step(DT).unwrap_err().to_string();
+    assert!(err.contains("diverged") && err.contains("node 21"), "{err}");
+}
