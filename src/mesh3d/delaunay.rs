@@ -29,7 +29,8 @@ pub struct Tetrahedralisation {
     pub tets: Vec<[u32; 4]>,
     /// `neighbours[t][i]`: the tetrahedron across the face opposite `tets[t][i]`, or [`NONE`].
     pub neighbours: Vec<[u32; 4]>,
-    /// Points left out because they coincide with an earlier point.
+    /// Points left out because they coincide with another point (one of each such group is
+    /// kept, whichever the insertion order met first).
     pub duplicates: Vec<u32>,
 }
 
