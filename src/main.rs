@@ -135,6 +135,19 @@ enum Command {
         #[arg(long, default_value_t = 5)]
         repeat: u32,
     },
+    /// Time the 3D loop (issue 26) on a tank of still water (jittered interior, h = 2 cm, twice
+    /// as long and wide as deep): ms per step by stage, particle-steps per second.
+    Bench3d {
+        /// About this many nodes (walls included).
+        #[arg(long, default_value_t = 20_000)]
+        nodes: usize,
+        /// Number of steps to time (Δt = 10 ms).
+        #[arg(long, default_value_t = 5)]
+        steps: u64,
+        /// The pressure solver: cholesky, cg, or auto (Cholesky up to 70 000 unknowns).
+        #[arg(long, default_value = "auto")]
+        solver: String,
+    },
     /// Time the step: ms per step by stage, particles and particle-steps per second.
     Bench {
         case: PathBuf,
@@ -186,6 +199,11 @@ fn main() {
             lattice,
             repeat,
         }) => cmd_bench_tetra(points, lattice, repeat),
+        Some(Command::Bench3d {
+            nodes,
+            steps,
+            solver,
+        }) => cmd_bench3d(nodes, steps, &solver),
         #[cfg(feature = "lab")]
         Some(Command::Lab {
             case,
@@ -495,6 +513,67 @@ fn cmd_bench_tetra(points: usize, lattice: bool, repeat: u32) -> Result<()> {
         us_per_point.push(us);
     }
     println!("median {:.2} µs per point", median(&us_per_point));
+    Ok(())
+}
+
+fn cmd_bench3d(nodes: usize, steps: u64, solver: &str) -> Result<()> {
+    use surflab::solver3d::{STAGES_3D, Solver3, still_tank};
+    let limit = surflab::case::max_nodes();
+    if !(100..=limit).contains(&nodes) {
+        bail!("--nodes must be between 100 and {limit} (--max-particles), got {nodes}");
+    }
+    if steps == 0 {
+        bail!("--steps must be at least 1");
+    }
+    let solver = match solver {
+        "cholesky" => Solver3::Cholesky,
+        "cg" => Solver3::Cg,
+        "auto" => Solver3::Auto,
+        other => bail!("--solver must be cholesky, cg or auto, got {other:?}"),
+    };
+    if solver == Solver3::Cholesky && nodes > surflab::solver3d::CHOLESKY_LIMIT_UNKNOWNS {
+        bail!(
+            "--solver cholesky is limited to {} nodes in 3D (the factor's fill); use cg or auto",
+            surflab::solver3d::CHOLESKY_LIMIT_UNKNOWNS
+        );
+    }
+    let nz = ((nodes as f64 / 4.0).cbrt().round() as usize).max(3);
+    let mut flow = still_tank(2 * nz, 2 * nz, nz, 0.02, 0.3);
+    flow.solver = solver;
+    let n = flow.x.len();
+    println!(
+        "surflab bench3d: still tank {} × {} × {nz} nodes ({n}), h = 2 cm, Δt = 10 ms, {solver:?}",
+        2 * nz,
+        2 * nz
+    );
+    let mut per_stage: Vec<Vec<f64>> = vec![Vec::new(); STAGES_3D.len()];
+    let (mut totals, mut iterations) = (Vec::new(), Vec::new());
+    let mut tets = 0;
+    for s in 1..=steps {
+        let step = flow.step(0.01)?;
+        let total: f64 = step.stage_ms.iter().sum();
+        eprintln!("  step {s}/{steps}: {total:.0} ms");
+        for (k, ms) in step.stage_ms.iter().enumerate() {
+            per_stage[k].push(*ms);
+        }
+        totals.push(total);
+        iterations.push(step.iterations as f64);
+        tets = step.tetrahedra;
+    }
+    println!("{tets} tetrahedra kept; median ms per step by stage:");
+    for (k, name) in STAGES_3D.iter().enumerate() {
+        println!("  {name:<15} {:9.1}", median(&per_stage[k]));
+    }
+    let step_ms = median(&totals);
+    println!("  {:<15} {step_ms:9.1}", "step");
+    if iterations.iter().any(|&i| i > 0.0) {
+        println!("median CG iterations: {:.0}", median(&iterations));
+    }
+    println!(
+        "particle-steps/s: {:.0}   real-time factor at Δt = 10 ms: {:.3}",
+        n as f64 / (step_ms * 1e-3),
+        10.0 / step_ms
+    );
     Ok(())
 }
 

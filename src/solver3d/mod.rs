@@ -27,10 +27,36 @@ pub enum PressureError {
     NotDefinite,
     #[error("the flow diverged: {0}")]
     Diverged(String),
+    #[error(
+        "{unknowns} pressure unknowns are too many for a 3D Cholesky factor (limit {limit}, its \
+         fill would exhaust the memory): use CG"
+    )]
+    TooLarge { unknowns: usize, limit: usize },
 }
 
+/// How the pressure equation is solved.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Solver3 {
+    /// faer's sparse Cholesky (its own fill-reducing ordering), factored every step.
+    Cholesky,
+    /// Jacobi-preconditioned conjugate gradients to a relative residual of 1e-10, from zero.
+    Cg,
+    /// Cholesky up to [`CHOLESKY_MAX_UNKNOWNS`], CG above.
+    Auto,
+}
+
+/// Where Cholesky stops paying in 3D (`surflab bench3d`, still tank, this 2-core VM): per step
+/// 323 against 386 ms (CG) at 19 652 nodes, 1 682 against 2 001 at 48 668, 9 634 against
+/// 4 943 at 97 556; the fill of a 3D factor grows faster than CG's iterations.
+pub const CHOLESKY_MAX_UNKNOWNS: usize = 70_000;
+
+/// The largest system a 3D Cholesky factor is allowed: its fill grows like n^(4/3), and it
+/// held 1.1 GB at 97 556 nodes, so about 5 GB here.
+pub const CHOLESKY_LIMIT_UNKNOWNS: usize = 300_000;
+
 /// The pressure (Pa) at every node (0 off the mesh and on the free surface) for the predicted
-/// velocity `u_star` (m/s), density `rho` (kg/m³) and step `dt_s`.
+/// velocity `u_star` (m/s), density `rho` (kg/m³) and step `dt_s`, and the solver's iterations
+/// (0 for Cholesky).
 pub fn pressure(
     points: &[[f64; 3]],
     mesh: &Tetrahedralisation,
@@ -38,7 +64,8 @@ pub fn pressure(
     u_star: &[Vector3<f64>],
     rho: f64,
     dt_s: f64,
-) -> Result<Vec<f64>, PressureError> {
+    solver: Solver3,
+) -> Result<(Vec<f64>, usize), PressureError> {
     let n = points.len();
     // Unknowns: the nodes of the mesh that are not on the free surface.
     let mut unknown = vec![u32::MAX; n];
@@ -48,6 +75,17 @@ pub fn pressure(
             unknown[i] = count as u32;
             count += 1;
         }
+    }
+    let solver = match solver {
+        Solver3::Auto if count <= CHOLESKY_MAX_UNKNOWNS => Solver3::Cholesky,
+        Solver3::Auto => Solver3::Cg,
+        other => other,
+    };
+    if solver == Solver3::Cholesky && count > CHOLESKY_LIMIT_UNKNOWNS {
+        return Err(PressureError::TooLarge {
+            unknowns: count,
+            limit: CHOLESKY_LIMIT_UNKNOWNS,
+        });
     }
     let mut triplets = Vec::with_capacity(16 * shape.kept.len());
     let mut rhs = vec![0.0; count];
@@ -65,7 +103,8 @@ pub fn pressure(
             rhs[row as usize] += rho / dt_s * e.volume * e.grad[a].dot(&mean_u);
             for b in 0..4 {
                 let col = unknown[v[b] as usize];
-                if col != u32::MAX && col <= row {
+                // Cholesky reads the lower triangle; CG needs the whole matrix.
+                if col != u32::MAX && (col <= row || solver == Solver3::Cg) {
                     let k = e.volume * e.grad[a].dot(&e.grad[b]);
                     triplets.push(Triplet::new(row as usize, col as usize, k));
                 }
@@ -74,15 +113,57 @@ pub fn pressure(
     }
     let mut p = vec![0.0; n];
     if count == 0 {
-        return Ok(p);
+        return Ok((p, 0));
     }
     let k = SparseColMat::<usize, f64>::try_new_from_triplets(count, count, &triplets)
         .map_err(|e| PressureError::Matrix(format!("{e:?}")))?;
-    let llt = k
-        .sp_cholesky(Side::Lower)
-        .map_err(|_| PressureError::NotDefinite)?;
     let b = faer::Mat::<f64>::from_fn(count, 1, |i, _| rhs[i]);
-    let x = llt.solve(&b);
+    let (x, iterations) = match solver {
+        Solver3::Cholesky => {
+            let llt = k
+                .sp_cholesky(Side::Lower)
+                .map_err(|_| PressureError::NotDefinite)?;
+            (llt.solve(&b), 0)
+        }
+        Solver3::Cg | Solver3::Auto => {
+            use faer::dyn_stack::{MemBuffer, MemStack};
+            use faer::matrix_free::conjugate_gradient::{
+                CgParams, conjugate_gradient, conjugate_gradient_scratch,
+            };
+            let mut dinv = faer::diag::Diag::<f64>::zeros(count);
+            for (j, col) in (0..count).map(|j| (j, k.as_ref().col_range(j))) {
+                let rows = &k.as_ref().symbolic().row_idx()[col.clone()];
+                let vals = &k.as_ref().val()[col];
+                let d = rows
+                    .iter()
+                    .zip(vals)
+                    .find(|(r, _)| **r == j)
+                    .map_or(0.0, |(_, v)| *v);
+                dinv[j] = if d > 0.0 { 1.0 / d } else { 1.0 };
+            }
+            let precond = dinv.as_ref();
+            let par = faer::Par::Seq;
+            let mut mem = MemBuffer::new(conjugate_gradient_scratch(precond, k.as_ref(), 1, par));
+            let mut x = faer::Mat::<f64>::zeros(count, 1);
+            let params = CgParams {
+                rel_tolerance: 1e-10,
+                max_iters: 20 * count + 100,
+                ..Default::default()
+            };
+            let info = conjugate_gradient(
+                x.as_mut(),
+                precond,
+                k.as_ref(),
+                b.as_ref(),
+                params,
+                |_| {},
+                par,
+                MemStack::new(&mut mem),
+            )
+            .map_err(|e| PressureError::Diverged(format!("conjugate gradients: {e:?}")))?;
+            (x, info.iter_count)
+        }
+    };
     for i in 0..n {
         if unknown[i] != u32::MAX {
             p[i] = x[(unknown[i] as usize, 0)];
@@ -94,7 +175,7 @@ pub fn pressure(
             }
         }
     }
-    Ok(p)
+    Ok((p, iterations))
 }
 
 /// The end-of-step velocity u = u* − (Δt/ρ) ∇p, ∇p the lumped nodal gradient (m/s); nodes off
@@ -148,7 +229,17 @@ pub struct Flow3 {
     pub alpha_h_m: f64,
     pub rho_kg_m3: f64,
     pub gravity_m_s2: Vector3<f64>,
+    pub solver: Solver3,
 }
+
+/// The stages of [`Flow3::step`], in order.
+pub const STAGES_3D: [&str; 5] = [
+    "tetrahedralise",
+    "alpha_shape",
+    "pressure",
+    "correct",
+    "move",
+];
 
 /// What one step of [`Flow3`] measured.
 #[derive(Debug, Clone, Copy)]
@@ -157,6 +248,10 @@ pub struct Step3 {
     pub volume_m3: f64,
     pub tetrahedra: usize,
     pub slivers_kept: usize,
+    /// The pressure solver's iterations (0 for Cholesky).
+    pub iterations: usize,
+    /// Wall time of each stage of [`STAGES_3D`], ms.
+    pub stage_ms: [f64; 5],
 }
 
 impl Flow3 {
@@ -171,7 +266,14 @@ impl Flow3 {
                 self.x[i], self.u[i]
             )));
         }
+        let mut stage_ms = [0.0; 5];
+        let mut clock = std::time::Instant::now();
+        let mut lap = |k: usize| {
+            stage_ms[k] = clock.elapsed().as_secs_f64() * 1e3;
+            clock = std::time::Instant::now();
+        };
         let mesh = crate::mesh3d::tetrahedralise(&self.x);
+        lap(0);
         let shape = crate::mesh3d::alpha_shape(&self.x, &self.walls, &mesh, self.alpha_h_m);
         let volume_m3 = shape
             .kept
@@ -181,6 +283,7 @@ impl Flow3 {
                 p1_tet(v).map_or(0.0, |e| e.volume)
             })
             .sum();
+        lap(1);
         // On a wall node u* is what the water beside it predicts; the wall's u·n = 0 enters
         // through the pressure's natural boundary condition.
         let u_star: Vec<Vector3<f64>> = self
@@ -188,7 +291,17 @@ impl Flow3 {
             .iter()
             .map(|u| u + self.gravity_m_s2 * dt_s)
             .collect();
-        self.p = pressure(&self.x, &mesh, &shape, &u_star, self.rho_kg_m3, dt_s)?;
+        let (p, iterations) = pressure(
+            &self.x,
+            &mesh,
+            &shape,
+            &u_star,
+            self.rho_kg_m3,
+            dt_s,
+            self.solver,
+        )?;
+        self.p = p;
+        lap(2);
         self.u = correct(
             &self.x,
             &mesh,
@@ -198,6 +311,7 @@ impl Flow3 {
             self.rho_kg_m3,
             dt_s,
         )?;
+        lap(3);
         for i in 0..self.x.len() {
             if self.walls[i] != 0 {
                 self.u[i] = Vector3::zeros();
@@ -207,11 +321,62 @@ impl Flow3 {
                 }
             }
         }
+        lap(4);
         Ok(Step3 {
             volume_m3,
             tetrahedra: shape.kept.len(),
             slivers_kept: shape.slivers_kept,
+            iterations,
+            stage_ms,
         })
+    }
+}
+
+/// A tank of still water at rest for tests and `surflab bench3d`: nx × ny × nz lattice nodes
+/// at spacing h (m), one layer of wall nodes on the bed and the four sides (one wall bit each),
+/// the fluid nodes below the top layer moved by up to ± jitter/2 h (a fixed xorshift
+/// sequence), the top layer flat; α = 1.2, water, gravity −z, Cholesky.
+pub fn still_tank(nx: usize, ny: usize, nz: usize, h: f64, jitter: f64) -> Flow3 {
+    let mut s: u64 = 0x2545_f491_4f6c_dd1d;
+    let mut r = move || {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    };
+    let (mut x, mut walls) = (Vec::new(), Vec::new());
+    for i in 0..nx {
+        for j in 0..ny {
+            for k in 0..nz {
+                let mask = (k == 0) as u16
+                    | ((i == 0) as u16) << 1
+                    | ((i + 1 == nx) as u16) << 2
+                    | ((j == 0) as u16) << 3
+                    | ((j + 1 == ny) as u16) << 4;
+                let d = if mask == 0 && k + 1 < nz {
+                    jitter * h
+                } else {
+                    0.0
+                };
+                x.push([
+                    i as f64 * h + d * r(),
+                    j as f64 * h + d * r(),
+                    k as f64 * h + d * r(),
+                ]);
+                walls.push(mask);
+            }
+        }
+    }
+    let n = x.len();
+    Flow3 {
+        x,
+        u: vec![Vector3::zeros(); n],
+        walls,
+        p: vec![0.0; n],
+        alpha_h_m: 1.2 * h,
+        rho_kg_m3: 1000.0,
+        gravity_m_s2: Vector3::new(0.0, 0.0, -9.81),
+        solver: Solver3::Cholesky,
     }
 }
 
