@@ -13,18 +13,6 @@ fn coord(p: &[f64; 3]) -> Coord3D<f64> {
     }
 }
 
-/// A xorshift cloud in the unit cube.
-fn random_cloud(n: usize, seed: u64) -> Vec<[f64; 3]> {
-    let mut s = seed;
-    let mut r = move || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        (s >> 11) as f64 / (1u64 << 53) as f64
-    };
-    (0..n).map(|_| [r(), r(), r()]).collect()
-}
-
 fn lattice(nx: usize, ny: usize, nz: usize, h: f64) -> Vec<[f64; 3]> {
     let mut p = Vec::with_capacity(nx * ny * nz);
     for i in 0..nx {
@@ -188,38 +176,9 @@ fn the_alpha_test_keeps_a_lattices_cubes() {
     assert!(alpha_shape(&p, &fluid, &mesh, 0.8 * h).kept.is_empty());
 }
 
-/// A tank of still water on a lattice: one layer of wall nodes on the bottom and the four
-/// sides (one bit each in the node's wall mask), fluid nodes inside, the top layer free;
-/// `jitter` moves the fluid nodes (the free ones on top too) by up to ± half that fraction of h
-/// (a fixed xorshift sequence). Returns the points and their wall masks.
-fn lattice_tank(nx: usize, ny: usize, nz: usize, h: f64, jitter: f64) -> (Vec<[f64; 3]>, Vec<u16>) {
-    let mut s: u64 = 0x9e37_79b9_7f4a_7c15;
-    let mut r = move || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-    };
-    let (mut p, mut wall) = (Vec::new(), Vec::new());
-    for i in 0..nx {
-        for j in 0..ny {
-            for k in 0..nz {
-                let mask = (k == 0) as u16
-                    | ((i == 0) as u16) << 1
-                    | ((i == nx - 1) as u16) << 2
-                    | ((j == 0) as u16) << 3
-                    | ((j == ny - 1) as u16) << 4;
-                let d = if mask == 0 { jitter * h } else { 0.0 };
-                p.push([
-                    i as f64 * h + d * r(),
-                    j as f64 * h + d * r(),
-                    k as f64 * h + d * r(),
-                ]);
-                wall.push(mask);
-            }
-        }
-    }
-    (p, wall)
+/// The tank of [`lattice_tank`] with its top jittered too.
+fn tank(nx: usize, ny: usize, nz: usize, h: f64, jitter: f64) -> (Vec<[f64; 3]>, Vec<u16>) {
+    lattice_tank([nx, ny, nz], h, jitter, true, 0x9e37_79b9_7f4a_7c15)
 }
 
 fn kept_volume(p: &[[f64; 3]], mesh: &Tetrahedralisation, shape: &AlphaShape) -> f64 {
@@ -233,7 +192,7 @@ fn kept_volume(p: &[[f64; 3]], mesh: &Tetrahedralisation, shape: &AlphaShape) ->
 #[test]
 fn a_lattice_tank_keeps_its_water_and_frees_its_top() {
     let (nx, ny, nz, h) = (8, 8, 5, 0.02);
-    let (p, wall) = lattice_tank(nx, ny, nz, h, 0.0);
+    let (p, wall) = tank(nx, ny, nz, h, 0.0);
     let mesh = tetrahedralise(&p);
     let shape = alpha_shape(&p, &wall, &mesh, 1.2 * h);
     let (lx, ly, lz) = (7.0 * h, 7.0 * h, 4.0 * h);
@@ -273,7 +232,7 @@ fn a_lattice_tank_keeps_its_water_and_frees_its_top() {
 #[test]
 fn an_all_wall_tank_without_water_keeps_nothing() {
     let h = 0.02;
-    let (p, _) = lattice_tank(6, 6, 4, h, 0.0);
+    let (p, _) = tank(6, 6, 4, h, 0.0);
     let all_wall = vec![1u16; p.len()];
     let mesh = tetrahedralise(&p);
     let shape = alpha_shape(&p, &all_wall, &mesh, 1.2 * h);
@@ -283,7 +242,7 @@ fn an_all_wall_tank_without_water_keeps_nothing() {
 #[test]
 fn slivers_of_a_jittered_tank_are_kept_inside_and_peeled_off_the_surface() {
     let (nx, ny, nz, h) = (12, 12, 8, 0.02);
-    let (p, wall) = lattice_tank(nx, ny, nz, h, 0.3);
+    let (p, wall) = tank(nx, ny, nz, h, 0.3);
     let mesh = tetrahedralise(&p);
     let shape = alpha_shape(&p, &wall, &mesh, 1.2 * h);
     let box_volume = (11.0 * h) * (11.0 * h) * (7.0 * h);

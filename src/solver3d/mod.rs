@@ -332,41 +332,12 @@ impl Flow3 {
     }
 }
 
-/// A tank of still water at rest for tests and `surflab bench3d`: nx × ny × nz lattice nodes
-/// at spacing h (m), one layer of wall nodes on the bed and the four sides (one wall bit each),
-/// the fluid nodes below the top layer moved by up to ± jitter/2 h (a fixed xorshift
-/// sequence), the top layer flat; α = 1.2, water, gravity −z, Cholesky.
+/// A tank of still water at rest for tests and `surflab bench3d`: `mesh3d::lattice_tank` with
+/// a flat top (the fluid nodes below it moved by up to ± jitter/2 h), α = 1.2, water, gravity
+/// −z, Cholesky.
 pub fn still_tank(nx: usize, ny: usize, nz: usize, h: f64, jitter: f64) -> Flow3 {
-    let mut s: u64 = 0x2545_f491_4f6c_dd1d;
-    let mut r = move || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-    };
-    let (mut x, mut walls) = (Vec::new(), Vec::new());
-    for i in 0..nx {
-        for j in 0..ny {
-            for k in 0..nz {
-                let mask = (k == 0) as u16
-                    | ((i == 0) as u16) << 1
-                    | ((i + 1 == nx) as u16) << 2
-                    | ((j == 0) as u16) << 3
-                    | ((j + 1 == ny) as u16) << 4;
-                let d = if mask == 0 && k + 1 < nz {
-                    jitter * h
-                } else {
-                    0.0
-                };
-                x.push([
-                    i as f64 * h + d * r(),
-                    j as f64 * h + d * r(),
-                    k as f64 * h + d * r(),
-                ]);
-                walls.push(mask);
-            }
-        }
-    }
+    let (x, walls) =
+        crate::mesh3d::lattice_tank([nx, ny, nz], h, jitter, false, 0x2545_f491_4f6c_dd1d);
     let n = x.len();
     Flow3 {
         x,
