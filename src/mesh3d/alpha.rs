@@ -15,6 +15,7 @@
 //! sliver is a tetrahedron of quality q = 6√2 V / l_rms³ < [`SLIVER_QUALITY`] (q = 1 for the
 //! regular tetrahedron, 0.66 for the six of a cube's Kuhn split, 0.77 for the corners of its five).
 
+use super::delaunay::{cross, dot, sub};
 use super::{NONE, Tetrahedralisation, circumsphere};
 
 /// Below this quality a tetrahedron is a sliver.
@@ -37,22 +38,6 @@ pub struct AlphaShape {
     pub slivers_kept: usize,
     /// Slivers dropped from the surface.
     pub slivers_dropped: usize,
-}
-
-fn sub(u: &[f64; 3], w: &[f64; 3]) -> [f64; 3] {
-    [u[0] - w[0], u[1] - w[1], u[2] - w[2]]
-}
-
-fn cross(u: [f64; 3], w: [f64; 3]) -> [f64; 3] {
-    [
-        u[1] * w[2] - u[2] * w[1],
-        u[2] * w[0] - u[0] * w[2],
-        u[0] * w[1] - u[1] * w[0],
-    ]
-}
-
-fn dot(u: [f64; 3], w: [f64; 3]) -> f64 {
-    u[0] * w[0] + u[1] * w[1] + u[2] * w[2]
 }
 
 /// The tetrahedron's quality 6√2 V / l_rms³: 1 when regular, 0 when flat.

@@ -63,26 +63,44 @@ fn in_sphere(p: &[[f64; 3]], v: [u32; 4], q: &[f64; 3]) -> f64 {
     )
 }
 
-/// Centre and radius of the sphere through the four points.
-pub fn circumsphere(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> ([f64; 3], f64) {
-    let sub = |u: &[f64; 3], v: &[f64; 3]| [u[0] - v[0], u[1] - v[1], u[2] - v[2]];
-    let cross = |u: [f64; 3], v: [f64; 3]| {
-        [
-            u[1] * v[2] - u[2] * v[1],
-            u[2] * v[0] - u[0] * v[2],
-            u[0] * v[1] - u[1] * v[0],
-        ]
-    };
-    let dot = |u: [f64; 3], v: [f64; 3]| u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
+#[inline(always)]
+pub(super) fn sub(u: &[f64; 3], w: &[f64; 3]) -> [f64; 3] {
+    [u[0] - w[0], u[1] - w[1], u[2] - w[2]]
+}
+
+#[inline(always)]
+pub(super) fn cross(u: [f64; 3], w: [f64; 3]) -> [f64; 3] {
+    [
+        u[1] * w[2] - u[2] * w[1],
+        u[2] * w[0] - u[0] * w[2],
+        u[0] * w[1] - u[1] * w[0],
+    ]
+}
+
+#[inline(always)]
+pub(super) fn dot(u: [f64; 3], w: [f64; 3]) -> f64 {
+    u[0] * w[0] + u[1] * w[1] + u[2] * w[2]
+}
+
+/// The circumcentre of (a, b, c, d) relative to a, with 1 / (12 V) (signed, for the rounding
+/// bound of [`Sphere::of`]) and the longest squared edge from a.
+#[inline(always)]
+fn centre_from_a(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> ([f64; 3], f64, f64) {
     let (ba, ca, da) = (sub(b, a), sub(c, a), sub(d, a));
     let (bb, cc, dd) = (dot(ba, ba), dot(ca, ca), dot(da, da));
     let (cd, db, bc) = (cross(ca, da), cross(da, ba), cross(ba, ca));
-    let den = 2.0 * dot(ba, cd);
+    let inv = 0.5 / dot(ba, cd);
     let o = [
-        (bb * cd[0] + cc * db[0] + dd * bc[0]) / den,
-        (bb * cd[1] + cc * db[1] + dd * bc[1]) / den,
-        (bb * cd[2] + cc * db[2] + dd * bc[2]) / den,
+        (bb * cd[0] + cc * db[0] + dd * bc[0]) * inv,
+        (bb * cd[1] + cc * db[1] + dd * bc[1]) * inv,
+        (bb * cd[2] + cc * db[2] + dd * bc[2]) * inv,
     ];
+    (o, inv, bb.max(cc).max(dd))
+}
+
+/// Centre and radius of the sphere through the four points.
+pub fn circumsphere(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> ([f64; 3], f64) {
+    let (o, _, _) = centre_from_a(a, b, c, d);
     ([a[0] + o[0], a[1] + o[1], a[2] + o[2]], dot(o, o).sqrt())
 }
 
@@ -239,30 +257,8 @@ impl Sphere {
     /// for d ≤ 2 r is at most 6 r err + 40 ε r².
     fn of(p: &[[f64; 3]], v: [u32; 4]) -> Sphere {
         let a = &p[v[0] as usize];
-        let sub = |u: &[f64; 3]| [u[0] - a[0], u[1] - a[1], u[2] - a[2]];
-        let (ba, ca, da) = (
-            sub(&p[v[1] as usize]),
-            sub(&p[v[2] as usize]),
-            sub(&p[v[3] as usize]),
-        );
-        let cross = |u: [f64; 3], w: [f64; 3]| {
-            [
-                u[1] * w[2] - u[2] * w[1],
-                u[2] * w[0] - u[0] * w[2],
-                u[0] * w[1] - u[1] * w[0],
-            ]
-        };
-        let dot = |u: [f64; 3], w: [f64; 3]| u[0] * w[0] + u[1] * w[1] + u[2] * w[2];
-        let (bb, cc, dd) = (dot(ba, ba), dot(ca, ca), dot(da, da));
-        let (cd, db, bc) = (cross(ca, da), cross(da, ba), cross(ba, ca));
-        let six_v = dot(ba, cd);
-        let inv = 0.5 / six_v;
-        let o = [
-            (bb * cd[0] + cc * db[0] + dd * bc[0]) * inv,
-            (bb * cd[1] + cc * db[1] + dd * bc[1]) * inv,
-            (bb * cd[2] + cc * db[2] + dd * bc[2]) * inv,
-        ];
-        let l2 = bb.max(cc).max(dd);
+        let (o, inv, l2) =
+            centre_from_a(a, &p[v[1] as usize], &p[v[2] as usize], &p[v[3] as usize]);
         let l = l2.sqrt();
         let r2 = dot(o, o);
         let kappa = 2.0 * l2 * l * inv.abs();

@@ -9,7 +9,7 @@
 //! predicted velocity). A linear pressure is reproduced exactly, so still water's hydrostatic
 //! pressure is exact on any mesh whose free surface is flat.
 
-use crate::fem::tet::p1_tet;
+use crate::fem::tet::{P1Tet, p1_tet};
 use crate::mesh3d::{AlphaShape, Tetrahedralisation};
 use faer::Side;
 use faer::prelude::Solve;
@@ -54,19 +54,36 @@ pub const CHOLESKY_MAX_UNKNOWNS: usize = 70_000;
 /// held 1.1 GB at 97 556 nodes, so about 5 GB here.
 pub const CHOLESKY_LIMIT_UNKNOWNS: usize = 300_000;
 
-/// The pressure (Pa) at every node (0 off the mesh and on the free surface) for the predicted
-/// velocity `u_star` (m/s), density `rho` (kg/m³) and step `dt_s`, and the solver's iterations
-/// (0 for Cholesky).
-pub fn pressure(
+/// The P1 element of each kept tetrahedron, in the order of `shape.kept`: built once per step
+/// and shared by the volume, the pressure and the correction.
+pub fn elements(
     points: &[[f64; 3]],
     mesh: &Tetrahedralisation,
     shape: &AlphaShape,
+) -> Result<Vec<P1Tet>, PressureError> {
+    shape
+        .kept
+        .iter()
+        .map(|&t| {
+            let v = mesh.tets[t as usize].map(|i| Vector3::from(points[i as usize]));
+            p1_tet(v).ok_or(PressureError::FlatElement(t))
+        })
+        .collect()
+}
+
+/// The pressure (Pa) at every node (0 off the mesh and on the free surface) for the predicted
+/// velocity `u_star` (m/s), density `rho` (kg/m³) and step `dt_s`, and the solver's iterations
+/// (0 for Cholesky); `elements` as [`elements`] gives them.
+pub fn pressure(
+    mesh: &Tetrahedralisation,
+    shape: &AlphaShape,
+    elements: &[P1Tet],
     u_star: &[Vector3<f64>],
     rho: f64,
     dt_s: f64,
     solver: Solver3,
 ) -> Result<(Vec<f64>, usize), PressureError> {
-    let n = points.len();
+    let n = shape.in_mesh.len();
     // Unknowns: the nodes of the mesh that are not on the free surface.
     let mut unknown = vec![u32::MAX; n];
     let mut count = 0usize;
@@ -89,10 +106,8 @@ pub fn pressure(
     }
     let mut triplets = Vec::with_capacity(16 * shape.kept.len());
     let mut rhs = vec![0.0; count];
-    for &t in &shape.kept {
+    for (&t, e) in shape.kept.iter().zip(elements) {
         let v = mesh.tets[t as usize];
-        let x = v.map(|i| Vector3::from(points[i as usize]));
-        let e = p1_tet(x).ok_or(PressureError::FlatElement(t))?;
         let mean_u: Vector3<f64> =
             v.iter().map(|&i| u_star[i as usize]).sum::<Vector3<f64>>() / 4.0;
         for a in 0..4 {
@@ -181,28 +196,26 @@ pub fn pressure(
 /// The end-of-step velocity u = u* − (Δt/ρ) ∇p, ∇p the lumped nodal gradient (m/s); nodes off
 /// the mesh keep u*.
 pub fn correct(
-    points: &[[f64; 3]],
     mesh: &Tetrahedralisation,
     shape: &AlphaShape,
+    elements: &[P1Tet],
     u_star: &[Vector3<f64>],
     p: &[f64],
     rho: f64,
     dt_s: f64,
-) -> Result<Vec<Vector3<f64>>, PressureError> {
-    let n = points.len();
+) -> Vec<Vector3<f64>> {
+    let n = u_star.len();
     let mut mass = vec![0.0; n];
     let mut grad = vec![Vector3::zeros(); n];
-    for &t in &shape.kept {
+    for (&t, e) in shape.kept.iter().zip(elements) {
         let v = mesh.tets[t as usize];
-        let e = p1_tet(v.map(|i| Vector3::from(points[i as usize])))
-            .ok_or(PressureError::FlatElement(t))?;
         let g: Vector3<f64> = (0..4).map(|j| e.grad[j] * p[v[j] as usize]).sum();
         for &i in &v {
             mass[i as usize] += e.volume / 4.0;
             grad[i as usize] += g * (e.volume / 4.0);
         }
     }
-    Ok((0..n)
+    (0..n)
         .map(|i| {
             if mass[i] > 0.0 {
                 u_star[i] - grad[i] / mass[i] * (dt_s / rho)
@@ -210,7 +223,7 @@ pub fn correct(
                 u_star[i]
             }
         })
-        .collect())
+        .collect()
 }
 
 /// The state of a 3D flow of particles: the least loop that remeshes and projects every
@@ -233,9 +246,10 @@ pub struct Flow3 {
 }
 
 /// The stages of [`Flow3::step`], in order.
-pub const STAGES_3D: [&str; 5] = [
+pub const STAGES_3D: [&str; 6] = [
     "tetrahedralise",
     "alpha_shape",
+    "elements",
     "pressure",
     "correct",
     "move",
@@ -251,11 +265,11 @@ pub struct Step3 {
     /// The pressure solver's iterations (0 for Cholesky).
     pub iterations: usize,
     /// Wall time of each stage of [`STAGES_3D`], ms.
-    pub stage_ms: [f64; 5],
+    pub stage_ms: [f64; 6],
 }
 
 impl Flow3 {
-    /// One step of Δt: tetrahedralise, α-shape, predict u* = u + Δt g, solve the pressure,
+    /// One step of Δt: tetrahedralise, α-shape, elements, predict u* = u + Δt g, solve the pressure,
     /// correct, hold the walls, move the fluid nodes.
     pub fn step(&mut self, dt_s: f64) -> Result<Step3, PressureError> {
         if let Some(i) = (0..self.x.len()).find(|&i| {
@@ -266,7 +280,7 @@ impl Flow3 {
                 self.x[i], self.u[i]
             )));
         }
-        let mut stage_ms = [0.0; 5];
+        let mut stage_ms = [0.0; 6];
         let mut clock = std::time::Instant::now();
         let mut lap = |k: usize| {
             stage_ms[k] = clock.elapsed().as_secs_f64() * 1e3;
@@ -275,15 +289,10 @@ impl Flow3 {
         let mesh = crate::mesh3d::tetrahedralise(&self.x);
         lap(0);
         let shape = crate::mesh3d::alpha_shape(&self.x, &self.walls, &mesh, self.alpha_h_m);
-        let volume_m3 = shape
-            .kept
-            .iter()
-            .map(|&t| {
-                let v = mesh.tets[t as usize].map(|i| Vector3::from(self.x[i as usize]));
-                p1_tet(v).map_or(0.0, |e| e.volume)
-            })
-            .sum();
         lap(1);
+        let elements = elements(&self.x, &mesh, &shape)?;
+        let volume_m3 = elements.iter().map(|e| e.volume).sum();
+        lap(2);
         // On a wall node u* is what the water beside it predicts; the wall's u·n = 0 enters
         // through the pressure's natural boundary condition.
         let u_star: Vec<Vector3<f64>> = self
@@ -292,26 +301,26 @@ impl Flow3 {
             .map(|u| u + self.gravity_m_s2 * dt_s)
             .collect();
         let (p, iterations) = pressure(
-            &self.x,
             &mesh,
             &shape,
+            &elements,
             &u_star,
             self.rho_kg_m3,
             dt_s,
             self.solver,
         )?;
         self.p = p;
-        lap(2);
+        lap(3);
         self.u = correct(
-            &self.x,
             &mesh,
             &shape,
+            &elements,
             &u_star,
             &self.p,
             self.rho_kg_m3,
             dt_s,
-        )?;
-        lap(3);
+        );
+        lap(4);
         for i in 0..self.x.len() {
             if self.walls[i] != 0 {
                 self.u[i] = Vector3::zeros();
@@ -321,7 +330,7 @@ impl Flow3 {
                 }
             }
         }
-        lap(4);
+        lap(5);
         Ok(Step3 {
             volume_m3,
             tetrahedra: shape.kept.len(),

@@ -25,8 +25,9 @@ fn one_step_at_rest(
     let mesh = tetrahedralise(p);
     let shape = alpha_shape(p, walls, &mesh, 1.2 * h);
     let u_star = vec![Vector3::new(0.0, 0.0, -G * DT); p.len()];
-    let (pressure, _) = pressure(p, &mesh, &shape, &u_star, RHO, DT, solver).unwrap();
-    let u = correct(p, &mesh, &shape, &u_star, &pressure, RHO, DT).unwrap();
+    let elements = elements(p, &mesh, &shape).unwrap();
+    let (pressure, _) = pressure(&mesh, &shape, &elements, &u_star, RHO, DT, solver).unwrap();
+    let u = correct(&mesh, &shape, &elements, &u_star, &pressure, RHO, DT);
     let mut worst_p = 0.0f64;
     let mut worst_u = 0.0f64;
     for i in 0..p.len() {
