@@ -45,9 +45,10 @@ pub enum Solver3 {
     Auto,
 }
 
-/// Where Cholesky stops paying in 3D (`surflab bench3d`, still tank, this 2-core VM): per step
-/// 323 against 386 ms (CG) at 19 652 nodes, 1 682 against 2 001 at 48 668, 9 634 against
-/// 4 943 at 97 556; the fill of a 3D factor grows faster than CG's iterations.
+/// Where Cholesky stops paying in 3D (`surflab bench3d`, still tank, this 2-core VM): the
+/// pressure stage took 344 against 418 ms (CG) at 19 652 nodes, 1 782 against 1 833 at
+/// 48 668, 9 940 against 5 067 at 97 556; the fill of a 3D factor grows faster than CG's
+/// iterations.
 pub const CHOLESKY_MAX_UNKNOWNS: usize = 70_000;
 
 /// The largest system a 3D Cholesky factor is allowed: its fill grows like n^(4/3), and it
