@@ -6,7 +6,8 @@
 //! (clock, Δt) → `diagnostics` (observers that read) → `output` (observers
 //! that write: .rrd, CSV, JSON) → `validation` (what `surflab validate` checks in the records
 //! a run wrote). The 3D path (issue 26) grows beside them: `mesh3d` (tetrahedralisation,
-//! α-shape), `fem::tet` (the tetrahedron's kernels), `solver3d` (the step's pressure).
+//! α-shape), `fem::tet` (the tetrahedron's kernels), `solver3d` (the 3D step and its seeding
+//! from a case with a width), `output::run3d` (its headless run and records).
 
 // The numerics walk several parallel arrays (struct of arrays) by node index; an index loop
 // says that more plainly than zipped iterators.

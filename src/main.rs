@@ -144,7 +144,7 @@ enum Command {
         /// Number of steps to time (Δt = 10 ms).
         #[arg(long, default_value_t = 5)]
         steps: u64,
-        /// The pressure solver: cholesky, cg, or auto (Cholesky up to 70 000 unknowns).
+        /// The pressure solver: cholesky, cg, or auto (Cholesky up to 15 000 unknowns).
         #[arg(long, default_value = "auto")]
         solver: String,
     },
@@ -316,14 +316,15 @@ fn cmd_run(
         case.particles.spacing_m,
         out_dir.display()
     );
-    let outcome = run(
-        &case,
-        &RunOptions {
-            out_dir: out_dir.clone(),
-            rrd,
-            progress,
-        },
-    )?;
+    let opts = RunOptions {
+        out_dir: out_dir.clone(),
+        rrd,
+        progress,
+    };
+    if case.flume.width_m.is_some() {
+        return run_3d(&case, &opts);
+    }
+    let outcome = run(&case, &opts)?;
     let s = &outcome.summary;
     eprintln!(
         "surflab: {} particles ({} fluid), {} steps, {:.3} s simulated in {:.2} s wall (real-time factor {:.3}), {:.0} particle-steps/s, median {:.2} ms/step, volume drift max {:.3e}",
@@ -345,6 +346,38 @@ fn cmd_run(
         );
     }
     eprintln!("surflab: status ok; wrote {}", out_dir.display());
+    Ok(())
+}
+
+/// `surflab run` of a 3D case (one with `flume.width_m`).
+fn run_3d(case: &surflab::case::Case, opts: &RunOptions) -> Result<()> {
+    let outcome = surflab::output::run3d::run3d(case, opts)?;
+    let s = &outcome.summary;
+    eprintln!(
+        "surflab: 3D, {} particles ({} fluid, {} wall nodes), {} steps, {:.3} s simulated in \
+         {:.2} s wall (real-time factor {:.3}), {:.0} particle-steps/s, median {:.2} ms/step, \
+         volume drift max {:.3e}, up to {} tetrahedra ({} slivers kept)",
+        s.particles,
+        s.fluid_particles,
+        s.wall_nodes,
+        s.steps,
+        s.simulated_s,
+        s.wall_s,
+        s.real_time_factor,
+        s.particle_steps_per_s,
+        s.median_ms_per_step,
+        s.volume_drift_max,
+        s.max_tetrahedra,
+        s.max_slivers_kept
+    );
+    if !outcome.ok() {
+        bail!(
+            "run did not finish: {} (what was recorded is in {})",
+            s.status,
+            opts.out_dir.display()
+        );
+    }
+    eprintln!("surflab: status ok; wrote {}", opts.out_dir.display());
     Ok(())
 }
 
@@ -389,21 +422,38 @@ fn cmd_validate(
                 case.particles.spacing_m,
                 dir.display()
             );
-            let outcome = run(
-                &case,
-                &RunOptions {
-                    out_dir: dir.clone(),
-                    rrd: false,
-                    progress: true,
-                },
-            )?;
-            let s = &outcome.summary;
-            eprintln!(
-                "surflab: {} particles, {} steps, {:.3} s simulated in {:.1} s wall, median {:.2} ms/step",
-                s.particles, s.steps, s.simulated_s, s.wall_s, s.median_ms_per_step
-            );
-            let (drift, simulated, status) = (s.volume_drift_max, s.simulated_s, s.status.clone());
-            (dir, case, drift, simulated, status, Some(s.particles))
+            let opts = RunOptions {
+                out_dir: dir.clone(),
+                rrd: false,
+                progress: true,
+            };
+            if case.flume.width_m.is_some() {
+                let s = surflab::output::run3d::run3d(&case, &opts)?.summary;
+                eprintln!(
+                    "surflab: {} particles (3D), {} steps, {:.3} s simulated in {:.1} s wall, \
+                     median {:.2} ms/step",
+                    s.particles, s.steps, s.simulated_s, s.wall_s, s.median_ms_per_step
+                );
+                let particles = Some(s.particles);
+                (
+                    dir,
+                    case,
+                    s.volume_drift_max,
+                    s.simulated_s,
+                    s.status,
+                    particles,
+                )
+            } else {
+                let outcome = run(&case, &opts)?;
+                let s = &outcome.summary;
+                eprintln!(
+                    "surflab: {} particles, {} steps, {:.3} s simulated in {:.1} s wall, median {:.2} ms/step",
+                    s.particles, s.steps, s.simulated_s, s.wall_s, s.median_ms_per_step
+                );
+                let (drift, simulated, status) =
+                    (s.volume_drift_max, s.simulated_s, s.status.clone());
+                (dir, case, drift, simulated, status, Some(s.particles))
+            }
         }
     };
     if status != "ok" {
@@ -538,11 +588,12 @@ fn cmd_bench3d(nodes: usize, steps: u64, solver: &str) -> Result<()> {
         );
     }
     let nz = ((nodes as f64 / 4.0).cbrt().round() as usize).max(3);
-    let mut flow = still_tank(2 * nz, 2 * nz, nz, 0.02, 0.3);
+    let mut flow = still_tank(2 * nz, nz, 2 * nz, 0.02, 0.3);
     flow.solver = solver;
     let n = flow.x.len();
     println!(
-        "surflab bench3d: still tank {} × {} × {nz} nodes ({n}), h = 2 cm, Δt = 10 ms, {solver:?}",
+        "surflab bench3d: still tank {} × {nz} × {} nodes (y up; {n}), h = 2 cm, Δt = 10 ms, \
+         {solver:?}",
         2 * nz,
         2 * nz
     );
@@ -577,11 +628,74 @@ fn cmd_bench3d(nodes: usize, steps: u64, solver: &str) -> Result<()> {
     Ok(())
 }
 
+/// `surflab bench` of a 3D case: `steps` steps at the run's Δt, ms per step by stage.
+fn bench_3d(case: &surflab::case::Case, steps: u64, json: bool) -> Result<()> {
+    use surflab::solver3d::{STAGES_3D, setup};
+    let mut flow = setup::from_case(case)?;
+    flow.mesh_now()?;
+    let n = flow.x.len();
+    let mut per_stage: Vec<Vec<f64>> = vec![Vec::new(); STAGES_3D.len()];
+    let (mut totals, mut t) = (Vec::new(), 0.0);
+    let started = Instant::now();
+    for k in 0..steps {
+        let dt = surflab::output::run3d::step_for(case, &flow);
+        let s = flow
+            .step(dt)
+            .with_context(|| format!("step {k} at t = {t:.5} s"))?;
+        t += dt;
+        for (k, ms) in s.stage_ms.iter().enumerate() {
+            per_stage[k].push(*ms);
+        }
+        totals.push(s.stage_ms.iter().sum::<f64>());
+    }
+    let wall = started.elapsed().as_secs_f64();
+    let step_ms = median(&totals);
+    let stages: Vec<(String, f64)> = STAGES_3D
+        .iter()
+        .zip(&per_stage)
+        .map(|(name, v)| (name.to_string(), median(v)))
+        .collect();
+    let particle_steps_per_s = (n as u64 * steps) as f64 / wall;
+    if json {
+        let obj = serde_json::json!({
+            "case": case.name,
+            "three_d": true,
+            "particles_initial": n,
+            "fluid_particles": flow.walls.iter().filter(|&&w| w == 0).count(),
+            "steps": steps,
+            "simulated_s": t,
+            "wall_s": wall,
+            "median_ms_per_step": step_ms,
+            "stage_ms": stages.iter().cloned().collect::<std::collections::BTreeMap<_, _>>(),
+            "particle_steps_per_s": particle_steps_per_s,
+            "real_time_factor": t / wall,
+        });
+        println!("{obj}");
+        return Ok(());
+    }
+    println!(
+        "{} (3D): {n} nodes, {steps} steps to t = {t:.4} s; median ms per step by stage:",
+        case.name
+    );
+    for (name, ms) in &stages {
+        println!("  {name:<15} {ms:9.2}");
+    }
+    println!("  {:<15} {step_ms:9.2}", "step");
+    println!(
+        "particle-steps/s: {particle_steps_per_s:.0}   real-time factor: {:.3}",
+        t / wall
+    );
+    Ok(())
+}
+
 fn cmd_bench(path: &Path, steps: u64, json: bool, set: &[String]) -> Result<()> {
     if steps == 0 {
         bail!("--steps must be at least 1");
     }
     let case = load(path, set, None)?;
+    if case.flume.width_m.is_some() {
+        return bench_3d(&case, steps, json);
+    }
     let mut sim = Simulation::new(&case).context("seeding the case")?;
     let n = sim.particles.len();
     // Logging is timed into a throw-away recording, one frame every `every` steps, as `run`

@@ -17,6 +17,11 @@ pub enum SetupError {
     Mesh(#[from] MeshError),
     #[error("the wavemaker cannot make this wave: {0}")]
     Wave(#[from] WaveError),
+    #[error(
+        "flume.width_m = {0} m makes this a 3D case: the 2D flume does not run it (`surflab run` \
+         and `surflab validate` take it to the 3D path)"
+    )]
+    ThreeD(f64),
 }
 
 pub struct Simulation {
@@ -49,6 +54,9 @@ pub struct AreaBudget {
 impl Simulation {
     /// Seeds the flume from the case, with hydrostatic pressure in every region, and meshes it.
     pub fn new(case: &Case) -> Result<Simulation, SetupError> {
+        if let Some(width) = case.flume.width_m {
+            return Err(SetupError::ThreeD(width));
+        }
         let mut flume = Flume::from_case(case);
         let h = case.particles.spacing_m;
         let walls = flume.wall_nodes_with_tangents(h);

@@ -23,6 +23,10 @@ pub struct Flume {
     /// The condition on the solid walls. Default `no_slip`.
     #[serde(default)]
     pub walls: WallCondition,
+    /// Width of the tank across the flume (z), m: a case with a width runs on the 3D path
+    /// (`solver3d`), between two side walls at z = 0 and z = width. Default none: the 2D flume.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub width_m: Option<f64>,
 }
 
 /// A plane beach: the floor is flat (y = 0) up to the toe, then rises at `slope` (tan β) until
@@ -77,6 +81,9 @@ impl Flume {
     pub(super) fn validate(&self) -> Result<(), (String, String)> {
         positive("flume.length_m", self.length_m)?;
         positive("flume.height_m", self.height_m)?;
+        if let Some(w) = self.width_m {
+            positive("flume.width_m", w)?;
+        }
         if let Some(b) = &self.beach {
             if !self.bed_m.is_empty() {
                 return err(

@@ -21,6 +21,11 @@ pub struct OutputSettings {
     /// Velocity probes: `[x, y]` positions, m (y above the flume floor). Recorded to gauges.csv
     /// as `u_<x>_<y>` and `w_<x>_<y>`; empty when the probe is dry. Default none.
     pub probes_m: Vec<[f64; 2]>,
+    /// 3D cases only: planes z = const across the tank, m from the side wall z = 0; the
+    /// particles within h/2 of each are recorded to the .rrd as a 2D view (x, y) coloured by
+    /// u1. Default none.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub planes_z_m: Vec<f64>,
 }
 
 impl Default for OutputSettings {
@@ -31,6 +36,7 @@ impl Default for OutputSettings {
             u1_range_m_s: None,
             gauges_x_m: Vec::new(),
             probes_m: Vec::new(),
+            planes_z_m: Vec::new(),
         }
     }
 }
@@ -43,7 +49,8 @@ impl OutputSettings {
         }
     }
 
-    /// A positive interval, gauges and probes inside `flume`, a colour range [min, max] with
+    /// A positive interval, gauges and probes inside `flume`, planes inside a 3D tank's width (and
+    /// none in 2D), a colour range [min, max] with
     /// min < max.
     pub(super) fn validate(&self, flume: &Flume) -> Result<(), (String, String)> {
         positive("output.interval_s", self.interval_s)?;
@@ -69,6 +76,27 @@ impl OutputSettings {
                 "output.probes_m",
                 format!("probe at {p:?} m lies outside the flume"),
             );
+        }
+        match flume.width_m {
+            None if !self.planes_z_m.is_empty() => {
+                return err(
+                    "output.planes_z_m",
+                    "planes z = const need a 3D case (flume.width_m)".into(),
+                );
+            }
+            Some(w) => {
+                if let Some(z) = self
+                    .planes_z_m
+                    .iter()
+                    .find(|z| !(z.is_finite() && **z >= 0.0 && **z <= w))
+                {
+                    return err(
+                        "output.planes_z_m",
+                        format!("plane z = {z} m lies outside the tank's width [0, {w}] m"),
+                    );
+                }
+            }
+            None => {}
         }
         match self.u1_range_m_s.as_deref() {
             None => {}

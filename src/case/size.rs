@@ -86,6 +86,15 @@ impl Case {
         if self.wavemaker.is_some() {
             walls += (f.height_m / h).ceil() + 1.0;
         }
+        let (mut fluid, mut walls) = (fluid, walls);
+        if let Some(width) = f.width_m {
+            // The 3D tank: every line of nodes repeated across the width, and the two side
+            // walls filled with wall nodes.
+            let layers = (width / h).round().max(1.0) + 1.0;
+            fluid *= layers;
+            walls = walls * layers
+                + 2.0 * ((f.length_m / h).round() + 1.0) * ((f.height_m / h).round() + 1.0);
+        }
         SizeEstimate {
             fluid,
             walls,
@@ -103,6 +112,12 @@ impl Case {
             // flume's longer side (the walls are what a huge flume fills).
             let field = if e.fluid >= e.walls {
                 "particles.spacing_m"
+            } else if self
+                .flume
+                .width_m
+                .is_some_and(|w| w > self.flume.length_m.max(self.flume.height_m))
+            {
+                "flume.width_m"
             } else if self.flume.height_m > self.flume.length_m {
                 "flume.height_m"
             } else {

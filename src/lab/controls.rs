@@ -16,7 +16,8 @@ pub struct Preset {
     pub text: String,
 }
 
-/// The case files in `dir`, sorted by name (unreadable files are skipped).
+/// The 2D case files in `dir`, sorted by name (unreadable files, and 3D cases, whose
+/// `flume.width_m` the lab's 2D flume cannot run yet, are skipped).
 pub fn presets_in(dir: &Path) -> Vec<Preset> {
     let mut out: Vec<Preset> = std::fs::read_dir(dir)
         .into_iter()
@@ -26,6 +27,13 @@ pub fn presets_in(dir: &Path) -> Vec<Preset> {
         .filter(|p| p.extension().is_some_and(|e| e == "toml"))
         .filter_map(|path| {
             let text = std::fs::read_to_string(&path).ok()?;
+            let three_d = text
+                .parse::<toml::Table>()
+                .ok()
+                .is_some_and(|t| t.get("flume").and_then(|f| f.get("width_m")).is_some());
+            if three_d {
+                return None;
+            }
             let name = path.file_stem()?.to_string_lossy().into_owned();
             Some(Preset { name, path, text })
         })

@@ -8,7 +8,10 @@
 //! walls' own tetrahedra elsewhere.
 //!
 //! Slivers: four nearly co-circular nodes make a tetrahedron of small circumradius and almost
-//! no volume, which the α test keeps. Its gradients are O(1/thickness): inside the water it
+//! no volume, which the α test keeps. (When the four lie on one plane to round-off, as on a
+//! face of a seeding lattice's cube, the circumsphere is ill-defined and its radius anything:
+//! a sliver is judged by its largest face's circle instead, so that such a tetrahedron inside
+//! the water is not dropped into a hole with p = 0 on its nodes.) Its gradients are O(1/thickness): inside the water it
 //! is harmless to the assembled operators' consistency (its volume weights it) and dropping it
 //! would open a hole, so it is kept; on the surface it is a skin across the free surface that
 //! holds no water, so it is dropped, repeatedly, until no sliver has a face on the surface. A
@@ -54,15 +57,46 @@ pub fn quality(x: [&[f64; 3]; 4]) -> f64 {
     6.0 * 2f64.sqrt() * volume / (l_rms * l_rms * l_rms)
 }
 
+/// The previous step's free surface, for the contact-line rule of [`alpha_shape_with`].
+#[derive(Debug, Clone, Copy)]
+pub struct ContactLine<'a> {
+    /// Per node: on the free surface at the previous step.
+    pub was_free: &'a [bool],
+    /// The vertical axis (1 for y up).
+    pub up_axis: usize,
+}
+
 /// The α-shape of `mesh` over `points`, with `alpha_h_m` = α h in metres. `walls` says which
 /// walls each node lies on, one bit per wall (a node on an edge between two walls has both
 /// bits, a fluid node none): a face whose three nodes share a wall lies on that wall, and a
 /// face of wall nodes that share none (across a corner of the water) can be free surface.
+/// No contact-line rule (see [`alpha_shape_with`]).
 pub fn alpha_shape(
     points: &[[f64; 3]],
     walls: &[u16],
     mesh: &Tetrahedralisation,
     alpha_h_m: f64,
+) -> AlphaShape {
+    alpha_shape_with(points, walls, mesh, alpha_h_m, None)
+}
+
+/// [`alpha_shape`] with the contact-line rule, the 2D mesher's one dimension up: a candidate
+/// with wall and fluid nodes, whose fluid nodes were all on the free surface at the previous
+/// step, is air between the water and a wall — dropped — when its centroid lies above its
+/// highest fluid node (a wedge above the water line on a side wall: it would set p = 0 on wall
+/// nodes above the water and add weight to the contact nodes that no pressure carries); a
+/// wetted candidate of wall nodes alone is air when its centroid lies above the highest fluid
+/// node that wets one of its nodes (the corner between two walls above the water line). The 2D
+/// rule's second half, a fluid node that does not stand over its wall face (the air wedge ahead
+/// of a front on the bed), is left out: in a corner of the water the lattice's diagonals give
+/// water tetrahedra whose fluid node projects outside their face on one wall, and dropping
+/// them set p = 0 on wall nodes under the water line.
+pub fn alpha_shape_with(
+    points: &[[f64; 3]],
+    walls: &[u16],
+    mesh: &Tetrahedralisation,
+    alpha_h_m: f64,
+    contact: Option<ContactLine>,
 ) -> AlphaShape {
     let n = points.len();
     assert_eq!(walls.len(), n, "one wall mask per node");
@@ -71,23 +105,51 @@ pub fn alpha_shape(
     let candidate: Vec<bool> = (0..mesh.tets.len())
         .map(|t| {
             let x = nodes(t);
-            circumsphere(x[0], x[1], x[2], x[3]).1 < alpha_h_m
+            // A sliver's circumsphere is ill-defined (four nodes of one lattice face, moved by
+            // round-off, give any radius at all): it is judged by its largest face circle.
+            let radius = if quality(x) < SLIVER_QUALITY {
+                largest_face_circumradius(x)
+            } else {
+                circumsphere(x[0], x[1], x[2], x[3]).1
+            };
+            radius < alpha_h_m
+                && !contact.is_some_and(|c| air_at_contact_line(points, walls, mesh.tets[t], c))
         })
         .collect();
-    let mut wetted = vec![false; n];
+    // A node is wetted when it shares a candidate with a fluid node; its water level is the
+    // highest fluid node of those candidates (for the contact-line rule's all-wall half).
+    let up = contact.map_or(1, |c| c.up_axis);
+    let mut wet_level = vec![f64::NEG_INFINITY; n];
     for (t, v) in mesh.tets.iter().enumerate() {
         if candidate[t] && v.iter().any(|&i| !is_wall(i)) {
+            let level = v
+                .iter()
+                .filter(|&&i| !is_wall(i))
+                .map(|&i| points[i as usize][up])
+                .fold(f64::NEG_INFINITY, f64::max);
             for &i in v {
-                wetted[i as usize] = true;
+                wet_level[i as usize] = wet_level[i as usize].max(level);
             }
         }
     }
     let mut keep: Vec<bool> = (0..mesh.tets.len())
         .map(|t| {
             let v = &mesh.tets[t];
-            let all_wall = v.iter().all(|&i| is_wall(i));
-            let wetted_wall = v.iter().any(|&i| wetted[i as usize]);
-            candidate[t] && (!all_wall || wetted_wall)
+            if !candidate[t] {
+                return false;
+            }
+            if !v.iter().all(|&i| is_wall(i)) {
+                return true;
+            }
+            // All wall nodes: kept when wetted, and with the contact-line rule only when its
+            // centroid is not above the water level of its wetted nodes (a corner of the walls
+            // above the water line is air).
+            let level = v
+                .iter()
+                .map(|&i| wet_level[i as usize])
+                .fold(f64::NEG_INFINITY, f64::max);
+            let centroid = v.iter().map(|&i| points[i as usize][up]).sum::<f64>() / 4.0;
+            level > f64::NEG_INFINITY && (contact.is_none() || centroid <= level)
         })
         .collect();
     let sliver: Vec<bool> = (0..mesh.tets.len())
@@ -150,4 +212,51 @@ pub fn alpha_shape(
         }
     }
     shape
+}
+
+/// The largest circumradius of the tetrahedron's four faces, m (abc / 4A per triangle).
+fn largest_face_circumradius(x: [&[f64; 3]; 4]) -> f64 {
+    let len = |a: &[f64; 3], b: &[f64; 3]| dot(sub(a, b), sub(a, b)).sqrt();
+    (0..4)
+        .map(|skip| {
+            let f: Vec<&[f64; 3]> = (0..4).filter(|&k| k != skip).map(|k| x[k]).collect();
+            let n = cross(sub(f[1], f[0]), sub(f[2], f[0]));
+            let area = 0.5 * dot(n, n).sqrt();
+            let product = len(f[0], f[1]) * len(f[1], f[2]) * len(f[2], f[0]);
+            if area > 0.0 {
+                product / (4.0 * area)
+            } else {
+                f64::INFINITY
+            }
+        })
+        .fold(0.0, f64::max)
+}
+
+/// The contact-line rule of [`alpha_shape_with`] for the tetrahedron `v`.
+fn air_at_contact_line(
+    points: &[[f64; 3]],
+    walls: &[u16],
+    v: [u32; 4],
+    contact: ContactLine,
+) -> bool {
+    let fluid: Vec<u32> = v
+        .iter()
+        .copied()
+        .filter(|&i| walls[i as usize] == 0)
+        .collect();
+    if fluid.is_empty()
+        || fluid.len() == 4
+        || !fluid
+            .iter()
+            .all(|&i| contact.was_free.get(i as usize).copied().unwrap_or(false))
+    {
+        return false;
+    }
+    let up = contact.up_axis;
+    let centroid = v.iter().map(|&i| points[i as usize][up]).sum::<f64>() / 4.0;
+    let top = fluid
+        .iter()
+        .map(|&i| points[i as usize][up])
+        .fold(f64::NEG_INFINITY, f64::max);
+    centroid > top
 }

@@ -1,12 +1,11 @@
 //! 3D remeshing (issue 26), the first stage: the Delaunay tetrahedralisation of a particle
 //! cloud (`delaunay`) and the α-shape on it (`alpha`: kept tetrahedra, free surface, slivers).
-//! The 3D solver path (fractional step, walls, nodes) is not built yet; `surflab bench-tetra`
-//! times the tetrahedralisation alone.
+//! `solver3d` steps on them; `surflab bench-tetra` times the tetrahedralisation alone.
 
 pub mod alpha;
 pub mod delaunay;
 
-pub use alpha::{AlphaShape, SLIVER_QUALITY, alpha_shape, quality};
+pub use alpha::{AlphaShape, ContactLine, SLIVER_QUALITY, alpha_shape, alpha_shape_with, quality};
 pub use delaunay::{NONE, Tetrahedralisation, circumsphere, tetrahedralise};
 
 /// A xorshift sequence in [0, 1) from a non-zero seed: the test and benchmark clouds'.
@@ -47,11 +46,12 @@ pub fn bench_cloud(n: usize, lattice: bool) -> Vec<[f64; 3]> {
     }
 }
 
-/// A tank of still water on an nx × ny × nz lattice at spacing `h_m`: one layer of wall nodes
-/// on the bed and the four sides (bits 0–4 of a node's wall mask: bed, x = 0, x = max, y = 0,
-/// y = max), fluid nodes inside, the top layer free. `jitter` moves the fluid nodes by up to
-/// ± jitter/2 h (a xorshift sequence from `seed`), the top layer's too when `jitter_top`.
-/// Returns the points and their wall masks (see [`alpha_shape`]).
+/// A tank of still water on an nx × ny × nz lattice at spacing `h_m`, y up (x along the tank,
+/// z across it, as in the 3D cases): one layer of wall nodes on the bed and the four sides
+/// (bits 0–4 of a node's wall mask: bed y = 0, x = 0, x = max, z = 0, z = max), fluid nodes
+/// inside, the top layer free. `jitter` moves the fluid nodes by up to ± jitter/2 h (a xorshift
+/// sequence from `seed`), the top layer's too when `jitter_top`. Returns the points and their
+/// wall masks (see [`alpha_shape`]).
 pub fn lattice_tank(
     [nx, ny, nz]: [usize; 3],
     h_m: f64,
@@ -64,12 +64,12 @@ pub fn lattice_tank(
     for i in 0..nx {
         for j in 0..ny {
             for k in 0..nz {
-                let mask = (k == 0) as u16
+                let mask = (j == 0) as u16
                     | ((i == 0) as u16) << 1
                     | ((i + 1 == nx) as u16) << 2
-                    | ((j == 0) as u16) << 3
-                    | ((j + 1 == ny) as u16) << 4;
-                let moved = mask == 0 && (jitter_top || k + 1 < nz);
+                    | ((k == 0) as u16) << 3
+                    | ((k + 1 == nz) as u16) << 4;
+                let moved = mask == 0 && (jitter_top || j + 1 < ny);
                 let d = if moved { jitter * h_m } else { 0.0 };
                 p.push([
                     i as f64 * h_m + d * (r() - 0.5),

@@ -191,13 +191,13 @@ fn kept_volume(p: &[[f64; 3]], mesh: &Tetrahedralisation, shape: &AlphaShape) ->
 
 #[test]
 fn a_lattice_tank_keeps_its_water_and_frees_its_top() {
-    let (nx, ny, nz, h) = (8, 8, 5, 0.02);
+    let (nx, ny, nz, h) = (8, 5, 8, 0.02);
     let (p, wall) = tank(nx, ny, nz, h, 0.0);
     let mesh = tetrahedralise(&p);
     let shape = alpha_shape(&p, &wall, &mesh, 1.2 * h);
-    let (lx, ly, lz) = (7.0 * h, 7.0 * h, 4.0 * h);
+    let (lx, ly, lz) = (7.0 * h, 4.0 * h, 7.0 * h);
     let water = kept_volume(&p, &mesh, &shape);
-    // The surface: area and outward normal, +z everywhere.
+    // The surface: area and outward normal, +y everywhere.
     let mut area = 0.0;
     for f in &shape.surface {
         let [a, b, c] = f.map(|i| p[i as usize]);
@@ -206,11 +206,11 @@ fn a_lattice_tank_keeps_its_water_and_frees_its_top() {
             (b[2] - a[2]) * (c[0] - a[0]) - (b[0] - a[0]) * (c[2] - a[2]),
             (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]),
         ];
-        assert!(nrm[2] > 0.0 && nrm[0].abs() < 1e-15 && nrm[1].abs() < 1e-15);
-        area += 0.5 * nrm[2];
+        assert!(nrm[1] > 0.0 && nrm[0].abs() < 1e-15 && nrm[2].abs() < 1e-15);
+        area += 0.5 * nrm[1];
     }
     let top = (0..p.len())
-        .filter(|&i| (p[i][2] - lz).abs() < 1e-12)
+        .filter(|&i| (p[i][1] - ly).abs() < 1e-12)
         .count();
     let free = shape.free_surface.iter().filter(|&&f| f).count();
     println!(
@@ -219,11 +219,11 @@ fn a_lattice_tank_keeps_its_water_and_frees_its_top() {
         shape.kept.len(),
         mesh.tets.len(),
         lx * ly * lz,
-        lx * ly,
+        lx * lz,
         shape.slivers_kept + shape.slivers_dropped
     );
     assert!((water - lx * ly * lz).abs() < 1e-12 * lx * ly * lz);
-    assert!((area - lx * ly).abs() < 1e-12 * lx * ly);
+    assert!((area - lx * lz).abs() < 1e-12 * lx * lz);
     assert_eq!(free, top);
     assert!(shape.in_mesh.iter().all(|&m| m));
     assert_eq!(shape.slivers_kept + shape.slivers_dropped, 0);
@@ -232,7 +232,7 @@ fn a_lattice_tank_keeps_its_water_and_frees_its_top() {
 #[test]
 fn an_all_wall_tank_without_water_keeps_nothing() {
     let h = 0.02;
-    let (p, _) = tank(6, 6, 4, h, 0.0);
+    let (p, _) = tank(6, 4, 6, h, 0.0);
     let all_wall = vec![1u16; p.len()];
     let mesh = tetrahedralise(&p);
     let shape = alpha_shape(&p, &all_wall, &mesh, 1.2 * h);
@@ -241,11 +241,11 @@ fn an_all_wall_tank_without_water_keeps_nothing() {
 
 #[test]
 fn slivers_of_a_jittered_tank_are_kept_inside_and_peeled_off_the_surface() {
-    let (nx, ny, nz, h) = (12, 12, 8, 0.02);
+    let (nx, ny, nz, h) = (12, 8, 12, 0.02);
     let (p, wall) = tank(nx, ny, nz, h, 0.3);
     let mesh = tetrahedralise(&p);
     let shape = alpha_shape(&p, &wall, &mesh, 1.2 * h);
-    let box_volume = (11.0 * h) * (11.0 * h) * (7.0 * h);
+    let box_volume = (11.0 * h) * (7.0 * h) * (11.0 * h);
     let water = kept_volume(&p, &mesh, &shape);
     let slivers_left_on_surface = shape
         .kept

@@ -6,6 +6,7 @@ pub mod colormap;
 pub mod recorder;
 pub mod rrd;
 pub mod run;
+pub mod run3d;
 pub mod summary;
 pub mod surf;
 pub mod timeseries;

@@ -273,7 +273,7 @@ fn summarize(sim: &Simulation, series: &[Integrals], m: &Measured, status: Strin
 }
 
 /// A one-line progress bar on stderr: simulated time, steps per second, ETA.
-struct Progress {
+pub(super) struct Progress {
     enabled: bool,
     end_s: f64,
     started: Instant,
@@ -281,7 +281,7 @@ struct Progress {
 }
 
 impl Progress {
-    fn new(enabled: bool, end_s: f64) -> Self {
+    pub(super) fn new(enabled: bool, end_s: f64) -> Self {
         let now = Instant::now();
         Self {
             enabled,
@@ -291,7 +291,7 @@ impl Progress {
         }
     }
 
-    fn update(&mut self, t_s: f64, steps: u64) {
+    pub(super) fn update(&mut self, t_s: f64, steps: u64) {
         if !self.enabled || self.last_draw.elapsed().as_secs_f64() < 0.25 {
             return;
         }
@@ -317,7 +317,7 @@ impl Progress {
         let _ = std::io::stderr().flush();
     }
 
-    fn finish(&self) {
+    pub(super) fn finish(&self) {
         if self.enabled {
             eprintln!();
         }

@@ -1,6 +1,8 @@
-//! The 3D fractional step (issue 26), first pieces: the pressure Poisson equation of one step on
-//! the α-shape's tetrahedra, the end-of-step velocity, and [`Flow3`], the least time loop
-//! around them. The viscous predictor, the walls' guard, node management and the wavemaker are
+//! The 3D fractional step (issue 26): the pressure Poisson equation of one step on the
+//! α-shape's tetrahedra, the end-of-step velocity, and [`Flow3`], the time step around them
+//! (remesh, explicit Smagorinsky predictor, pressure, correction, slip or no-slip walls, move
+//! with the walls' guard); [`setup::from_case`] seeds it from a case with a `flume.width_m`.
+//! Axes: x along the flume, y up, z across it. Node insertion and removal and the wavemaker are
 //! not built yet.
 //!
 //! Strong form, as in 2D (method.md §1): ∇²p = (ρ/Δt) ∇·u*, p = 0 on the free surface, and on
@@ -46,17 +48,30 @@ pub enum Solver3 {
 }
 
 /// Where Cholesky stops paying in 3D (`surflab bench3d`, still tank, this 2-core VM): the
-/// pressure stage took 344 against 418 ms (CG) at 19 652 nodes, 1 782 against 1 833 at
-/// 48 668, 9 940 against 5 067 at 97 556; the fill of a 3D factor grows faster than CG's
-/// iterations.
-pub const CHOLESKY_MAX_UNKNOWNS: usize = 70_000;
+/// pressure stage took 135 against 154 ms (CG, 345 iterations) at 10 976 nodes, 414 against
+/// 342 (408) at 19 652, 2 260 against 1 060 (552) at 48 668 and 10 288 against 2 656 (698) at
+/// 97 556; the fill of a 3D factor grows faster than CG's iterations. (CG needed twice the
+/// iterations while flat tetrahedra were in the operators, and the crossing was near 70 000.)
+pub const CHOLESKY_MAX_UNKNOWNS: usize = 15_000;
 
 /// The largest system a 3D Cholesky factor is allowed: its fill grows like n^(4/3), and it
 /// held 1.1 GB at 97 556 nodes, so about 5 GB here.
 pub const CHOLESKY_LIMIT_UNKNOWNS: usize = 300_000;
 
+/// Below this quality (6√2 V / l_rms³) a kept tetrahedron is flat: it is left out of the
+/// operators. Its Laplacian entries V b_i·b_j grow like its base area over its thickness, so
+/// four nodes of a seeding lattice's cube that round-off has made a tetrahedron of 1e-17 m
+/// thickness put entries of 1e12 into the pressure matrix (still water jumped from 1e-16 to
+/// 1.5e-2 m/s in one step when the first such sliver appeared). Leaving out a tetrahedron of
+/// little volume changes the operators' consistency by the order of its thickness; its faces
+/// stay interior for the α-shape. At 1e-3 the 3D dam break diverged at T = 2.63 (4.7 km/s); at
+/// 0.01 it ran to its end; at 0.05 (every sliver) a node lost all its elements and the
+/// pressure matrix its definiteness at T = 3.26 (`docs/three_d.md`).
+pub const FLAT_QUALITY: f64 = 0.01;
+
 /// The P1 element of each kept tetrahedron, in the order of `shape.kept`: built once per step
-/// and shared by the volume, the pressure and the correction.
+/// and shared by the volume, the pressure and the correction. A flat one (quality below
+/// [`FLAT_QUALITY`]) gets zero volume and gradients, so that it adds nothing.
 pub fn elements(
     points: &[[f64; 3]],
     mesh: &Tetrahedralisation,
@@ -66,15 +81,37 @@ pub fn elements(
         .kept
         .iter()
         .map(|&t| {
-            let v = mesh.tets[t as usize].map(|i| Vector3::from(points[i as usize]));
-            p1_tet(v).ok_or(PressureError::FlatElement(t))
+            let nodes = mesh.tets[t as usize].map(|i| &points[i as usize]);
+            if crate::mesh3d::quality(nodes) < FLAT_QUALITY {
+                return Ok(P1Tet {
+                    volume: 0.0,
+                    grad: [Vector3::zeros(); 4],
+                });
+            }
+            p1_tet(nodes.map(|p| Vector3::from(*p))).ok_or(PressureError::FlatElement(t))
         })
         .collect()
 }
 
-/// The pressure (Pa) at every node (0 off the mesh and on the free surface) for the predicted
-/// velocity `u_star` (m/s), density `rho` (kg/m³) and step `dt_s`, and the solver's iterations
-/// (0 for Cholesky); `elements` as [`elements`] gives them.
+/// The weak free surface of [`pressure`]: the free-surface nodes keep their continuity row and
+/// p = 0 holds weakly, as the Robin condition ∂p/∂n + p/λ = 0 on the free-surface triangles.
+#[derive(Debug, Clone, Copy)]
+pub struct WeakSurface<'a> {
+    /// The node positions, m (for the triangles' areas and normals).
+    pub points: &'a [[f64; 3]],
+    /// λ, m.
+    pub length_m: f64,
+}
+
+/// The pressure (Pa) at every node (0 off the mesh, and on the free surface unless `weak`) for
+/// the predicted velocity `u_star` (m/s), density `rho` (kg/m³) and step `dt_s`, and the
+/// solver's iterations (0 for Cholesky); `elements` as [`elements`] gives them.
+///
+/// With `weak`, the free-surface boundary terms of the weak form stay: the Robin term
+/// Σ (A/3) p_i / λ on the diagonal and −(ρ/Δt) Σ (A/3) u*_i·n on the right (lumped over each
+/// free-surface triangle of area A and outward normal n), so that a hydrostatic pressure is
+/// still exact under a flat surface.
+#[allow(clippy::too_many_arguments)]
 pub fn pressure(
     mesh: &Tetrahedralisation,
     shape: &AlphaShape,
@@ -83,13 +120,22 @@ pub fn pressure(
     rho: f64,
     dt_s: f64,
     solver: Solver3,
+    weak: Option<WeakSurface>,
 ) -> Result<(Vec<f64>, usize), PressureError> {
     let n = shape.in_mesh.len();
-    // Unknowns: the nodes of the mesh that are not on the free surface.
+    // Unknowns: the nodes of the mesh that are not on the free surface (all of them with the
+    // weak surface).
+    // A node whose elements are all flat ([`FLAT_QUALITY`]) has no row: it is left out.
+    let mut support = vec![0.0; n];
+    for (&t, e) in shape.kept.iter().zip(elements) {
+        for &i in &mesh.tets[t as usize] {
+            support[i as usize] += e.volume;
+        }
+    }
     let mut unknown = vec![u32::MAX; n];
     let mut count = 0usize;
     for i in 0..n {
-        if shape.in_mesh[i] && !shape.free_surface[i] {
+        if shape.in_mesh[i] && support[i] > 0.0 && (weak.is_some() || !shape.free_surface[i]) {
             unknown[i] = count as u32;
             count += 1;
         }
@@ -124,6 +170,29 @@ pub fn pressure(
                     let k = e.volume * e.grad[a].dot(&e.grad[b]);
                     triplets.push(Triplet::new(row as usize, col as usize, k));
                 }
+            }
+        }
+    }
+    if let Some(w) = weak {
+        for f in &shape.surface {
+            let [a, b, c] = f.map(|i| Vector3::from(w.points[i as usize]));
+            let normal2 = (b - a).cross(&(c - a));
+            let area = 0.5 * normal2.norm();
+            if area == 0.0 {
+                continue;
+            }
+            let normal = normal2 / (2.0 * area);
+            for &i in f {
+                let row = unknown[i as usize];
+                if row == u32::MAX {
+                    continue;
+                }
+                triplets.push(Triplet::new(
+                    row as usize,
+                    row as usize,
+                    area / 3.0 / w.length_m,
+                ));
+                rhs[row as usize] -= rho / dt_s * area / 3.0 * u_star[i as usize].dot(&normal);
             }
         }
     }
@@ -227,30 +296,82 @@ pub fn correct(
         .collect()
 }
 
-/// The state of a 3D flow of particles: the least loop that remeshes and projects every
-/// step (inviscid predictor; viscosity, the wall guard and node management are not built).
+/// A plane wall of a box-shaped tank: the solid lies on the side of `at_m` away from `inward`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WallPlane {
+    /// 0 (x), 1 (y) or 2 (z).
+    pub axis: usize,
+    /// Where the plane cuts its axis, m.
+    pub at_m: f64,
+    /// +1 when the water is on the side of larger coordinates, −1 otherwise.
+    pub inward: f64,
+}
+
+impl WallPlane {
+    /// Signed distance of `x` from the plane, positive on the water's side, m.
+    pub fn distance(&self, x: &[f64; 3]) -> f64 {
+        self.inward * (x[self.axis] - self.at_m)
+    }
+}
+
+/// The box of planes of a tank from `lo` to `hi` (m), in the order of the wall bits of
+/// `mesh3d::lattice_tank` and [`setup::from_case`]: bed (y = lo), x = lo, x = hi, z = lo,
+/// z = hi.
+pub fn box_planes(lo: [f64; 3], hi: [f64; 3]) -> Vec<WallPlane> {
+    let plane = |axis: usize, at_m: f64, inward: f64| WallPlane { axis, at_m, inward };
+    vec![
+        plane(1, lo[1], 1.0),
+        plane(0, lo[0], 1.0),
+        plane(0, hi[0], -1.0),
+        plane(2, lo[2], 1.0),
+        plane(2, hi[2], -1.0),
+    ]
+}
+
+/// The state of a 3D flow of particles and everything its step needs.
 #[derive(Debug, Clone)]
 pub struct Flow3 {
-    /// Node positions, m.
+    /// Node positions, m (x along the flume, y up, z across).
     pub x: Vec<[f64; 3]>,
-    /// Node velocities, m/s (zero on walls).
+    /// Node velocities, m/s (on a wall node: along the wall when the walls slip, else zero).
     pub u: Vec<Vector3<f64>>,
-    /// Per node, one bit per wall plane it lies on (0: fluid); see `mesh3d::alpha_shape`.
+    /// Per node, one bit per wall plane it lies on (bit b ↔ `planes[b]`; 0: fluid).
     pub walls: Vec<u16>,
+    /// The planes the wall bits refer to; fluid nodes are kept on their water side.
+    pub planes: Vec<WallPlane>,
+    /// Slip walls (the velocity across a wall removed) or no-slip (u = 0 on wall nodes).
+    pub slip: bool,
     /// The last step's pressure, Pa.
     pub p: Vec<f64>,
+    /// Particle spacing h, m.
+    pub h_m: f64,
     /// α h, m.
     pub alpha_h_m: f64,
+    /// A fluid node closer than this to a wall plane is put back at it, m.
+    pub wall_margin_m: f64,
     pub rho_kg_m3: f64,
+    pub mu_pa_s: f64,
+    pub smagorinsky_cs: f64,
     pub gravity_m_s2: Vector3<f64>,
     pub solver: Solver3,
+    /// λ of the weak free surface ([`WeakSurface`]), m; `None`: p = 0 strongly on the free
+    /// surface.
+    pub weak_surface_m: Option<f64>,
+    /// Whether each node was in a kept tetrahedron at the last step (all false before it).
+    pub in_mesh: Vec<bool>,
+    /// The last step's free-surface triangles (outward), node indices.
+    pub surface: Vec<[u32; 3]>,
+    /// Per node: on the last step's free surface (empty before the first mesh), for the
+    /// α-shape's contact-line rule.
+    pub was_free: Vec<bool>,
 }
 
 /// The stages of [`Flow3::step`], in order.
-pub const STAGES_3D: [&str; 6] = [
+pub const STAGES_3D: [&str; 7] = [
     "tetrahedralise",
     "alpha_shape",
     "elements",
+    "predict",
     "pressure",
     "correct",
     "move",
@@ -265,13 +386,33 @@ pub struct Step3 {
     pub slivers_kept: usize,
     /// The pressure solver's iterations (0 for Cholesky).
     pub iterations: usize,
+    /// Fluid nodes the walls' guard put back this step.
+    pub guarded: usize,
+    /// Volume of the same tetrahedra after the move (guard included), m³: the move changed
+    /// the water by `moved_volume_m3 − volume_m3`, the next remesh by its `volume_m3` less
+    /// this.
+    pub moved_volume_m3: f64,
     /// Wall time of each stage of [`STAGES_3D`], ms.
-    pub stage_ms: [f64; 6],
+    pub stage_ms: [f64; 7],
+}
+
+/// What a frame of a 3D run reports (the 3D counterpart of `diagnostics::Integrals`).
+#[derive(Debug, Clone, Copy, Default, serde::Serialize)]
+pub struct Integrals3 {
+    pub fluid_particles: usize,
+    /// Fluid particles in no kept tetrahedron.
+    pub isolated_particles: usize,
+    pub max_speed_m_s: f64,
+    pub kinetic_energy_j: f64,
+    /// Largest x of a fluid particle in the mesh, m.
+    pub front_x_m: f64,
+    /// Highest fluid particle in the mesh within 1.5 h of the wall x = 0, m.
+    pub left_wall_height_m: f64,
 }
 
 impl Flow3 {
-    /// One step of Δt: tetrahedralise, α-shape, elements, predict u* = u + Δt g, solve the pressure,
-    /// correct, hold the walls, move the fluid nodes.
+    /// One step of Δt: tetrahedralise, α-shape, elements, predict, pressure, correct, move (the
+    /// stages of [`STAGES_3D`]).
     pub fn step(&mut self, dt_s: f64) -> Result<Step3, PressureError> {
         if let Some(i) = (0..self.x.len()).find(|&i| {
             !(self.x[i].iter().all(|c| c.is_finite()) && self.u[i].iter().all(|c| c.is_finite()))
@@ -281,26 +422,19 @@ impl Flow3 {
                 self.x[i], self.u[i]
             )));
         }
-        let mut stage_ms = [0.0; 6];
+        let mut stage_ms = [0.0; 7];
         let mut clock = std::time::Instant::now();
         let mut lap = |k: usize| {
             stage_ms[k] = clock.elapsed().as_secs_f64() * 1e3;
             clock = std::time::Instant::now();
         };
-        let mesh = crate::mesh3d::tetrahedralise(&self.x);
-        lap(0);
-        let shape = crate::mesh3d::alpha_shape(&self.x, &self.walls, &mesh, self.alpha_h_m);
-        lap(1);
-        let elements = elements(&self.x, &mesh, &shape)?;
+        let (mesh, shape, elements) = self.remesh(&mut lap)?;
         let volume_m3 = elements.iter().map(|e| e.volume).sum();
-        lap(2);
-        // On a wall node u* is what the water beside it predicts; the wall's u·n = 0 enters
-        // through the pressure's natural boundary condition.
-        let u_star: Vec<Vector3<f64>> = self
-            .u
-            .iter()
-            .map(|u| u + self.gravity_m_s2 * dt_s)
-            .collect();
+        // Every node of the mesh, walls included, predicts from the momentum equation; the
+        // wall's u·n = 0 enters through the pressure's natural boundary condition, and the
+        // wall's constraint is applied to the corrected velocity.
+        let u_star = self.predict(&mesh, &shape, &elements, dt_s);
+        lap(3);
         let (p, iterations) = pressure(
             &mesh,
             &shape,
@@ -309,9 +443,13 @@ impl Flow3 {
             self.rho_kg_m3,
             dt_s,
             self.solver,
+            self.weak_surface_m.map(|length_m| WeakSurface {
+                points: &self.x,
+                length_m,
+            }),
         )?;
         self.p = p;
-        lap(3);
+        lap(4);
         self.u = correct(
             &mesh,
             &shape,
@@ -321,45 +459,301 @@ impl Flow3 {
             self.rho_kg_m3,
             dt_s,
         );
-        lap(4);
-        for i in 0..self.x.len() {
-            if self.walls[i] != 0 {
-                self.u[i] = Vector3::zeros();
-            } else {
-                for k in 0..3 {
-                    self.x[i][k] += dt_s * self.u[i][k];
-                }
-            }
-        }
         lap(5);
+        let guarded = self.move_nodes(dt_s);
+        // The same tetrahedra on the moved nodes: what the move changed (the next remesh
+        // changes the rest).
+        let moved_volume_m3 = shape
+            .kept
+            .iter()
+            .zip(&elements)
+            .filter(|(_, e)| e.volume > 0.0)
+            .map(|(&t, _)| {
+                let v = mesh.tets[t as usize].map(|i| Vector3::from(self.x[i as usize]));
+                (v[1] - v[0])
+                    .dot(&(v[2] - v[0]).cross(&(v[3] - v[0])))
+                    .abs()
+                    / 6.0
+            })
+            .sum();
+        self.in_mesh = shape.in_mesh;
+        self.was_free = shape.free_surface;
+        self.surface = shape.surface;
+        lap(6);
         Ok(Step3 {
             volume_m3,
             tetrahedra: shape.kept.len(),
             slivers_kept: shape.slivers_kept,
             iterations,
+            guarded,
+            moved_volume_m3,
             stage_ms,
         })
     }
+
+    /// The first three stages: the tetrahedralisation, the α-shape and the elements of the
+    /// current positions, `lap(k)` called at the end of stage k. Only the wall nodes near the
+    /// water take part (see `near_water`); the mesh and the α-shape are built on them and the
+    /// fluid, then numbered as the whole cloud.
+    fn remesh(
+        &self,
+        lap: &mut impl FnMut(usize),
+    ) -> Result<(Tetrahedralisation, AlphaShape, Vec<P1Tet>), PressureError> {
+        use crate::mesh3d::{ContactLine, alpha_shape_with};
+        let active = self.near_water();
+        let sub_x: Vec<[f64; 3]> = active.iter().map(|&i| self.x[i as usize]).collect();
+        let sub_walls: Vec<u16> = active.iter().map(|&i| self.walls[i as usize]).collect();
+        let mut mesh = crate::mesh3d::tetrahedralise(&sub_x);
+        lap(0);
+        // The contact-line rule needs the previous free surface; the first mesh takes it from
+        // an α-shape without the rule.
+        let sub_free: Vec<bool> = if self.was_free.len() == self.x.len() {
+            active.iter().map(|&i| self.was_free[i as usize]).collect()
+        } else {
+            alpha_shape_with(&sub_x, &sub_walls, &mesh, self.alpha_h_m, None).free_surface
+        };
+        let contact = ContactLine {
+            was_free: &sub_free,
+            up_axis: 1,
+        };
+        let mut shape = alpha_shape_with(&sub_x, &sub_walls, &mesh, self.alpha_h_m, Some(contact));
+        renumber(&mut mesh, &mut shape, &active, self.x.len());
+        lap(1);
+        let elements = elements(&self.x, &mesh, &shape)?;
+        lap(2);
+        Ok((mesh, shape, elements))
+    }
+
+    /// Meshes the current positions without stepping (the first frame of a run): sets
+    /// `in_mesh` and `surface` and returns the kept volume, m³.
+    pub fn mesh_now(&mut self) -> Result<f64, PressureError> {
+        let (_, shape, elements) = self.remesh(&mut |_| {})?;
+        self.in_mesh = shape.in_mesh;
+        self.was_free = shape.free_surface;
+        self.surface = shape.surface;
+        Ok(elements.iter().map(|e| e.volume).sum())
+    }
+
+    /// ũ = uⁿ + Δt (g + f/m): f the Smagorinsky viscous forces of the kept tetrahedra
+    /// (μ_e = μ + ρ (C_s h_e)² |S|, explicit), m the lumped mass ρV/4; a node in no kept
+    /// tetrahedron flies ballistically.
+    fn predict(
+        &self,
+        mesh: &Tetrahedralisation,
+        shape: &AlphaShape,
+        elements: &[P1Tet],
+        dt_s: f64,
+    ) -> Vec<Vector3<f64>> {
+        use crate::fem::tet::{strain_rate, tet_size, velocity_gradient, viscous_forces};
+        let n = self.x.len();
+        let mut mass = vec![0.0; n];
+        let mut force = vec![Vector3::zeros(); n];
+        for (&t, e) in shape.kept.iter().zip(elements) {
+            let v = mesh.tets[t as usize];
+            let g = velocity_gradient(e, v.map(|i| self.u[i as usize]));
+            let (s, magnitude) = strain_rate(&g);
+            let mu_e = crate::fem::smagorinsky_viscosity(
+                self.mu_pa_s,
+                self.rho_kg_m3,
+                self.smagorinsky_cs,
+                tet_size(e.volume),
+                magnitude,
+            );
+            let f = viscous_forces(e, mu_e, &s);
+            for a in 0..4 {
+                mass[v[a] as usize] += self.rho_kg_m3 * e.volume / 4.0;
+                force[v[a] as usize] += f[a];
+            }
+        }
+        (0..n)
+            .map(|i| {
+                let accel = if mass[i] > 0.0 {
+                    self.gravity_m_s2 + force[i] / mass[i]
+                } else {
+                    self.gravity_m_s2
+                };
+                self.u[i] + dt_s * accel
+            })
+            .collect()
+    }
+
+    /// The wall nodes' constraint on the corrected velocity (slip: the components across each
+    /// of the node's planes removed, so an edge keeps the part along it and a corner none;
+    /// no-slip: zero), then the fluid nodes moved by Δt uⁿ⁺¹ and put back on the water's side
+    /// of every plane by the wall margin, their velocity into that wall removed. Returns how
+    /// many fluid nodes were put back.
+    fn move_nodes(&mut self, dt_s: f64) -> usize {
+        let mut guarded = 0;
+        for i in 0..self.x.len() {
+            let mask = self.walls[i];
+            if mask != 0 {
+                if self.slip {
+                    for (b, plane) in self.planes.iter().enumerate() {
+                        if mask & (1 << b) != 0 {
+                            self.u[i][plane.axis] = 0.0;
+                        }
+                    }
+                } else {
+                    self.u[i] = Vector3::zeros();
+                }
+                continue;
+            }
+            for k in 0..3 {
+                self.x[i][k] += dt_s * self.u[i][k];
+            }
+            let mut put_back = false;
+            for plane in &self.planes {
+                if plane.distance(&self.x[i]) < self.wall_margin_m {
+                    self.x[i][plane.axis] = plane.at_m + plane.inward * self.wall_margin_m;
+                    if plane.inward * self.u[i][plane.axis] < 0.0 {
+                        self.u[i][plane.axis] = 0.0;
+                    }
+                    put_back = true;
+                }
+            }
+            guarded += put_back as usize;
+        }
+        guarded
+    }
+
+    /// The nodes the step meshes, in index order: every fluid node, and the wall nodes whose
+    /// grid cell (of side 4 α h + h) or a neighbouring one holds a fluid node. A kept
+    /// tetrahedron has a circumradius below α h and a fluid node or a wetted wall node (one
+    /// within 2 α h of a fluid node), so its circumsphere lies within 4 α h of a fluid node:
+    /// no wall node farther than that can be inside it, and the kept tetrahedra of the
+    /// Delaunay tetrahedralisation of these nodes are those of the whole cloud's. A tall dry
+    /// wall is thus not tetrahedralised every step.
+    fn near_water(&self) -> Vec<u32> {
+        let cell = 4.0 * self.alpha_h_m + self.h_m;
+        let key = |x: &[f64; 3]| x.map(|c| (c / cell).floor() as i64);
+        let wet: std::collections::HashSet<[i64; 3]> = (0..self.x.len())
+            .filter(|&i| self.walls[i] == 0)
+            .map(|i| key(&self.x[i]))
+            .collect();
+        (0..self.x.len() as u32)
+            .filter(|&i| {
+                if self.walls[i as usize] == 0 {
+                    return true;
+                }
+                let c = key(&self.x[i as usize]);
+                (-1..=1).any(|a| {
+                    (-1..=1)
+                        .any(|b| (-1..=1).any(|d| wet.contains(&[c[0] + a, c[1] + b, c[2] + d])))
+                })
+            })
+            .collect()
+    }
+
+    /// The largest speed of a fluid node, m/s.
+    pub fn max_fluid_speed(&self) -> f64 {
+        (0..self.x.len())
+            .filter(|&i| self.walls[i] == 0)
+            .map(|i| self.u[i].norm())
+            .fold(0.0, f64::max)
+    }
+
+    /// The frame's figures (see [`Integrals3`]); the mesh flags are the last step's.
+    pub fn integrals(&self) -> Integrals3 {
+        let mut out = Integrals3 {
+            front_x_m: f64::NAN,
+            left_wall_height_m: f64::NAN,
+            ..Default::default()
+        };
+        let (mut front, mut wall_top) = (f64::NEG_INFINITY, f64::NEG_INFINITY);
+        let x0 = self
+            .planes
+            .iter()
+            .find(|p| p.axis == 0 && p.inward > 0.0)
+            .map_or(0.0, |p| p.at_m);
+        for i in 0..self.x.len() {
+            if self.walls[i] != 0 {
+                continue;
+            }
+            out.fluid_particles += 1;
+            let speed = self.u[i].norm();
+            out.max_speed_m_s = out.max_speed_m_s.max(speed);
+            // Each particle carries the volume h³.
+            out.kinetic_energy_j += 0.5 * self.rho_kg_m3 * self.h_m.powi(3) * speed * speed;
+            if !self.in_mesh.get(i).copied().unwrap_or(false) {
+                out.isolated_particles += 1;
+                continue;
+            }
+            front = front.max(self.x[i][0]);
+            if self.x[i][0] - x0 < 1.5 * self.h_m {
+                wall_top = wall_top.max(self.x[i][1]);
+            }
+        }
+        if front.is_finite() {
+            out.front_x_m = front;
+        }
+        if wall_top.is_finite() {
+            out.left_wall_height_m = wall_top;
+        }
+        out
+    }
 }
 
-/// A tank of still water at rest for tests and `surflab bench3d`: `mesh3d::lattice_tank` with
-/// a flat top (the fluid nodes below it moved by up to ± jitter/2 h), α = 1.2, water, gravity
-/// −z, Cholesky.
+/// Numbers a tetrahedralisation and α-shape built on the nodes `active` (in index order) as
+/// the whole cloud of `n` nodes.
+fn renumber(mesh: &mut Tetrahedralisation, shape: &mut AlphaShape, active: &[u32], n: usize) {
+    if active.len() == n {
+        return;
+    }
+    for t in &mut mesh.tets {
+        *t = t.map(|i| active[i as usize]);
+    }
+    for d in &mut mesh.duplicates {
+        *d = active[*d as usize];
+    }
+    for f in &mut shape.surface {
+        *f = f.map(|i| active[i as usize]);
+    }
+    let spread = |flags: &[bool]| {
+        let mut all = vec![false; n];
+        for (k, &f) in flags.iter().enumerate() {
+            all[active[k] as usize] = f;
+        }
+        all
+    };
+    shape.in_mesh = spread(&shape.in_mesh);
+    shape.free_surface = spread(&shape.free_surface);
+}
+
+/// A tank of still water at rest for tests and `surflab bench3d`: `mesh3d::lattice_tank`
+/// (nx × ny × nz nodes, ny up) with a flat top (the fluid nodes below it moved by up to
+/// ± jitter/2 h), α = 1.2, water, gravity −y, no-slip walls, Cholesky.
 pub fn still_tank(nx: usize, ny: usize, nz: usize, h: f64, jitter: f64) -> Flow3 {
     let (x, walls) =
         crate::mesh3d::lattice_tank([nx, ny, nz], h, jitter, false, 0x2545_f491_4f6c_dd1d);
     let n = x.len();
+    let hi = [
+        (nx - 1) as f64 * h,
+        (ny - 1) as f64 * h,
+        (nz - 1) as f64 * h,
+    ];
     Flow3 {
         x,
         u: vec![Vector3::zeros(); n],
         walls,
+        planes: box_planes([0.0; 3], hi),
+        slip: false,
         p: vec![0.0; n],
+        h_m: h,
         alpha_h_m: 1.2 * h,
+        wall_margin_m: 0.4 * h,
         rho_kg_m3: 1000.0,
-        gravity_m_s2: Vector3::new(0.0, 0.0, -9.81),
+        mu_pa_s: 1.0e-3,
+        smagorinsky_cs: 0.12,
+        gravity_m_s2: Vector3::new(0.0, -9.81, 0.0),
         solver: Solver3::Cholesky,
+        weak_surface_m: None,
+        in_mesh: vec![false; n],
+        surface: Vec::new(),
+        was_free: Vec::new(),
     }
 }
+
+pub mod setup;
 
 #[cfg(test)]
 mod tests;

@@ -1,0 +1,155 @@
+//! A 3D flow seeded from a case whose `[flume]` has a `width_m`: the 2D case's flume and water
+//! regions extruded across the width, between two side walls at z = 0 and z = width.
+//!
+//! Walls are lattices of nodes at about the particle spacing h: the bed (y = 0) over the whole
+//! tank, the end walls x = 0 and x = length and the side walls up to the flume's height. Each
+//! node carries one bit per plane it lies on, in the order of [`box_planes`]. Fluid particles
+//! fill every water region on the 2D seeding's lattice (x and y as `geometry::seed_fluid`
+//! spaces them), repeated on the side walls' z lattice, at least h/2 from every wall.
+
+use super::{Flow3, Solver3, box_planes};
+use crate::case::{Case, PressureSolver, WallCondition};
+use nalgebra::Vector3;
+
+/// Why a case cannot be seeded on the 3D path: the field and what is wrong with it.
+#[derive(Debug, thiserror::Error)]
+#[error("{field}: {message}")]
+pub struct Setup3Error {
+    pub field: String,
+    pub message: String,
+}
+
+fn refuse(field: &str, message: &str) -> Setup3Error {
+    Setup3Error {
+        field: field.to_owned(),
+        message: message.to_owned(),
+    }
+}
+
+/// The 3D flow of `case` at rest (hydrostatic pressure), or why the 3D path cannot run it yet:
+/// no width, a bed that is not flat, a wavemaker or an absorber. The case's sizes were checked
+/// when it was loaded (`Case::validate` counts the 3D nodes).
+pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
+    let f = &case.flume;
+    let Some(width) = f.width_m else {
+        return Err(refuse(
+            "flume.width_m",
+            "the case has no width: it is a 2D case",
+        ));
+    };
+    if f.bed_points().iter().any(|p| p[1].abs() > 1e-12) {
+        return Err(refuse(
+            if f.beach.is_some() {
+                "flume.beach"
+            } else {
+                "flume.bed_m"
+            },
+            "the 3D path takes a flat bed (y = 0) for now; beaches and bars are not built yet",
+        ));
+    }
+    if case.wavemaker.is_some() {
+        return Err(refuse(
+            "wavemaker",
+            "the 3D path has no paddle yet (issue 26): only still water and dam breaks run in 3D",
+        ));
+    }
+    if case.absorber.is_some() {
+        return Err(refuse("absorber", "the 3D path has no damping layer yet"));
+    }
+    let h = case.particles.spacing_m;
+    let lattice = |extent: f64| {
+        let n = (extent / h).round().max(1.0) as usize;
+        (n, extent / n as f64)
+    };
+    let (nx, dx) = lattice(f.length_m);
+    let (ny, dy) = lattice(f.height_m);
+    let nz = lattice(width).0.max(2);
+    let dz = width / nz as f64;
+    let side_mask = |i: usize, k: usize| -> u16 {
+        ((i == 0) as u16) << 1
+            | ((i == nx) as u16) << 2
+            | ((k == 0) as u16) << 3
+            | ((k == nz) as u16) << 4
+    };
+    let (mut x, mut walls) = (Vec::new(), Vec::new());
+    for i in 0..=nx {
+        for j in 0..=ny {
+            for k in 0..=nz {
+                let mask = (j == 0) as u16 | side_mask(i, k);
+                if mask != 0 {
+                    x.push([i as f64 * dx, j as f64 * dy, k as f64 * dz]);
+                    walls.push(mask);
+                }
+            }
+        }
+    }
+    let planes = box_planes([0.0; 3], [f.length_m, f.height_m, width]);
+    let mut taken = std::collections::HashSet::new();
+    for w in &case.water {
+        let (nxw, dxw) = {
+            let n = ((w.x_end_m - w.x_start_m) / h).round().max(1.0) as usize;
+            (n, (w.x_end_m - w.x_start_m) / n as f64)
+        };
+        let nyw = (w.depth_m / h).round().max(1.0) as usize;
+        for i in 0..=nxw {
+            let px = w.x_start_m + i as f64 * dxw;
+            let dyw = w.level_at(px) / nyw as f64;
+            for j in 0..=nyw {
+                for k in 1..nz {
+                    let p = [px, j as f64 * dyw, k as f64 * dz];
+                    if planes.iter().any(|q| q.distance(&p) < 0.5 * h) {
+                        continue;
+                    }
+                    // Overlapping regions: one particle per half-spacing cell.
+                    let key = (
+                        (p[0] / (0.5 * h)).round() as i64,
+                        (p[1] / (0.5 * h)).round() as i64,
+                        k,
+                    );
+                    if taken.insert(key) {
+                        x.push(p);
+                        walls.push(0);
+                    }
+                }
+            }
+        }
+    }
+    let n = x.len();
+    let rho = case.fluid.density_kg_m3;
+    let g = case.fluid.gravity_m_s2;
+    // Hydrostatic under the level of the region above each node (the first frame's pressure).
+    let p = x
+        .iter()
+        .map(|q| {
+            case.water
+                .iter()
+                .filter(|w| w.spans(q[0], 0.5 * h))
+                .map(|w| rho * g * (w.level_at(q[0].clamp(w.x_start_m, w.x_end_m)) - q[1]))
+                .fold(0.0, f64::max)
+        })
+        .collect();
+    Ok(Flow3 {
+        x,
+        u: vec![Vector3::zeros(); n],
+        walls,
+        planes,
+        slip: f.walls == WallCondition::Slip,
+        p,
+        h_m: h,
+        alpha_h_m: case.solver.alpha * h,
+        wall_margin_m: case.solver.wall_margin_h * h,
+        rho_kg_m3: rho,
+        mu_pa_s: case.fluid.viscosity_pa_s,
+        smagorinsky_cs: case.solver.smagorinsky_cs,
+        gravity_m_s2: Vector3::new(0.0, -g, 0.0),
+        solver: match case.solver.pressure_solver {
+            // A 3D Cholesky factor stops paying above CHOLESKY_MAX_UNKNOWNS: by size.
+            PressureSolver::Cholesky => Solver3::Auto,
+            PressureSolver::Cg => Solver3::Cg,
+        },
+        weak_surface_m: case.solver.weak_surface_length_h.map(|l| l * h),
+        in_mesh: vec![false; n],
+        surface: Vec::new(),
+        was_free: Vec::new(),
+    })
+}

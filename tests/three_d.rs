@@ -1,0 +1,74 @@
+//! The 3D path from a case file (issue 26): `surflab run` takes a case with `flume.width_m` to
+//! the 3D solver and writes the same three files as a 2D run; trouble stops it with a status
+//! and keeps them.
+
+mod common;
+
+use std::process::Command;
+
+fn run(dir: &std::path::Path, extra: &[&str]) -> (Option<i32>, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_surflab"))
+        .current_dir(common::root())
+        .args(["run", "cases/tank3d_still.toml", "--quiet", "--out"])
+        .arg(dir)
+        .args(extra)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    println!("exit {:?}: {stderr}", out.status.code());
+    (out.status.code(), stderr)
+}
+
+#[test]
+fn a_3d_case_runs_and_records_its_three_files() {
+    let dir = common::out_dir("three_d_run");
+    let (code, stderr) = run(&dir, &["--until", "0.1"]);
+    assert_eq!(code, Some(0));
+    assert!(stderr.contains("3D"), "{stderr}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["status"], "ok");
+    assert_eq!(summary["parameters"]["flume"]["width_m"], 0.2);
+    let drift = summary["volume_drift_max"].as_f64().unwrap();
+    let particles = summary["particles"].as_u64().unwrap();
+    let csv = std::fs::read_to_string(dir.join("timeseries.csv")).unwrap();
+    let header = csv.lines().next().unwrap();
+    for column in [
+        "t_s",
+        "volume_m3",
+        "volume_m2",
+        "front_x_m",
+        "max_speed_m_s",
+    ] {
+        assert!(
+            header.split(',').any(|c| c == column),
+            "{column} in {header}"
+        );
+    }
+    // Rows at t = 0, 0.05 and 0.1 s.
+    assert_eq!(csv.lines().count(), 4, "{csv}");
+    let messages = common::rrd_messages(&dir.join("run.rrd")).expect("run.rrd decodes");
+    println!("{particles} nodes, volume drift {drift:.1e}, run.rrd: {messages} messages");
+    assert!(messages > 0);
+    assert!(drift < 1e-6);
+}
+
+#[test]
+fn trouble_stops_a_3d_run_and_keeps_what_was_recorded() {
+    // A subnormal density makes Δt/ρ infinite: the first pressure is not finite.
+    let dir = common::out_dir("three_d_nan");
+    let (code, stderr) = run(
+        &dir,
+        &["--until", "0.05", "--set", "fluid.density_kg_m3=1e-310"],
+    );
+    assert_eq!(code, Some(1));
+    assert!(stderr.contains("did not finish"), "{stderr}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let status = summary["status"].as_str().unwrap();
+    println!("status: {status}");
+    assert!(status.starts_with("stopped at t = "), "{status}");
+    let csv = std::fs::read_to_string(dir.join("timeseries.csv")).unwrap();
+    assert!(csv.lines().count() >= 2, "header and the t = 0 row");
+    assert!(common::rrd_messages(&dir.join("run.rrd")).expect("run.rrd decodes") > 0);
+}
