@@ -338,10 +338,14 @@ fn cmd_run(
         s.median_ms_per_step,
         s.volume_drift_max
     );
-    if !outcome.ok() {
+    finished(outcome.ok(), &s.status, &out_dir)
+}
+
+/// The end of `surflab run`: an error naming the status when the run stopped early.
+fn finished(ok: bool, status: &str, out_dir: &Path) -> Result<()> {
+    if !ok {
         bail!(
-            "run did not finish: {} (what was recorded is in {})",
-            s.status,
+            "run did not finish: {status} (what was recorded is in {})",
             out_dir.display()
         );
     }
@@ -370,15 +374,7 @@ fn run_3d(case: &surflab::case::Case, opts: &RunOptions) -> Result<()> {
         s.max_tetrahedra,
         s.max_slivers_kept
     );
-    if !outcome.ok() {
-        bail!(
-            "run did not finish: {} (what was recorded is in {})",
-            s.status,
-            opts.out_dir.display()
-        );
-    }
-    eprintln!("surflab: status ok; wrote {}", opts.out_dir.display());
-    Ok(())
+    finished(outcome.ok(), &s.status, &opts.out_dir)
 }
 
 fn cmd_validate(

@@ -27,16 +27,7 @@ fn nan_stops_the_run_and_keeps_what_was_recorded() {
     println!("exit {:?}: {stderr}", out.status.code());
     assert_eq!(out.status.code(), Some(1));
     assert!(stderr.contains("did not finish"));
-    let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
-    let status = summary["status"].as_str().unwrap();
-    println!("status: {status}");
-    assert!(status.starts_with("stopped at t = "), "{status}");
-    let csv = std::fs::read_to_string(dir.join("timeseries.csv")).unwrap();
-    assert!(csv.lines().count() >= 2, "header and the t = 0 row");
-    let messages = common::rrd_messages(&dir.join("run.rrd")).expect("run.rrd decodes");
-    println!("run.rrd: {messages} messages");
-    assert!(messages > 0);
+    common::assert_stopped_and_kept(&dir);
 }
 
 /// A finite but absurd velocity also stops the run: here the limit is lowered to 1 mm/s so

@@ -63,12 +63,5 @@ fn trouble_stops_a_3d_run_and_keeps_what_was_recorded() {
     );
     assert_eq!(code, Some(1));
     assert!(stderr.contains("did not finish"), "{stderr}");
-    let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
-    let status = summary["status"].as_str().unwrap();
-    println!("status: {status}");
-    assert!(status.starts_with("stopped at t = "), "{status}");
-    let csv = std::fs::read_to_string(dir.join("timeseries.csv")).unwrap();
-    assert!(csv.lines().count() >= 2, "header and the t = 0 row");
-    assert!(common::rrd_messages(&dir.join("run.rrd")).expect("run.rrd decodes") > 0);
+    common::assert_stopped_and_kept(&dir);
 }

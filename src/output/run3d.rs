@@ -6,7 +6,7 @@
 
 use super::colormap::ColorScale;
 use super::rrd::SIM_TIMELINE;
-use super::run::{Progress, RunError, RunOptions};
+use super::run::{Progress, RunError, RunOptions, io_err};
 use super::summary::median;
 use crate::case::Case;
 use crate::solver3d::{Flow3, Integrals3, STAGES_3D, setup};
@@ -78,13 +78,6 @@ impl Run3Outcome {
 const CSV_HEADER: &str = "t_s,dt_s,steps,volume_m3,volume_m2,volume_ratio,fluid_particles,\
 isolated_particles,max_speed_m_s,kinetic_energy_j,front_x_m,left_wall_height_m,tetrahedra,\
 slivers_kept,guarded,moves_m3,remeshes_m3";
-
-fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> RunError + '_ {
-    move |source| RunError::Io {
-        path: path.to_owned(),
-        source,
-    }
-}
 
 /// Runs the 3D `case` to `case.time.end_s` (Δt: the CFL policy's bound on the fastest fluid
 /// particle, `time.dt_max_s` and the surface-wave bound, as in 2D, cut to land on every output

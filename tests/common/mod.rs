@@ -51,6 +51,21 @@ pub fn rrd_messages(path: &Path) -> Result<usize, String> {
     Ok(count)
 }
 
+/// What a run stopped by trouble must leave in `dir`: a `summary.json` whose status says where
+/// it stopped, a `timeseries.csv` with at least the t = 0 row, and a readable `run.rrd`.
+pub fn assert_stopped_and_kept(dir: &Path) {
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let status = summary["status"].as_str().unwrap();
+    println!("status: {status}");
+    assert!(status.starts_with("stopped at t = "), "{status}");
+    let csv = std::fs::read_to_string(dir.join("timeseries.csv")).unwrap();
+    assert!(csv.lines().count() >= 2, "header and the t = 0 row");
+    let messages = rrd_messages(&dir.join("run.rrd")).expect("run.rrd decodes");
+    println!("run.rrd: {messages} messages");
+    assert!(messages > 0);
+}
+
 /// Distinct colours and the luminance standard deviation of a PNG screenshot: a blank or
 /// single-colour window has a handful of colours and no contrast.
 #[cfg(feature = "lab")]
