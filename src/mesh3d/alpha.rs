@@ -8,15 +8,16 @@
 //! walls' own tetrahedra elsewhere.
 //!
 //! Slivers: four nearly co-circular nodes make a tetrahedron of small circumradius and almost
-//! no volume, which the α test keeps. (When the four lie on one plane to round-off, as on a
-//! face of a seeding lattice's cube, the circumsphere is ill-defined and its radius anything:
-//! a sliver is judged by its largest face's circle instead, so that such a tetrahedron inside
-//! the water is not dropped into a hole with p = 0 on its nodes.) Its gradients are O(1/thickness): inside the water it
-//! is harmless to the assembled operators' consistency (its volume weights it) and dropping it
-//! would open a hole, so it is kept; on the surface it is a skin across the free surface that
-//! holds no water, so it is dropped, repeatedly, until no sliver has a face on the surface. A
-//! sliver is a tetrahedron of quality q = 6√2 V / l_rms³ < [`SLIVER_QUALITY`] (q = 1 for the
-//! regular tetrahedron, 0.66 for the six of a cube's Kuhn split, 0.77 for the corners of its five).
+//! no volume, which the α test keeps. When the four lie on one plane to round-off, as on a face
+//! of a seeding lattice's cube, the circumsphere is ill-defined and its radius anything, so a
+//! sliver is judged by its largest face's circle instead (otherwise such a tetrahedron inside
+//! the water was dropped, leaving a hole with p = 0 on its nodes). Inside the water a sliver is
+//! kept: dropping it would open a hole (the solver leaves the flattest out of its operators,
+//! `solver3d::FLAT_QUALITY`, whose entries grow like 1/thickness). On the surface it is a skin
+//! across the free surface that holds no water, so it is dropped, repeatedly, until no sliver
+//! has a face on the surface. A sliver is a tetrahedron of quality q = 6√2 V / l_rms³ <
+//! [`SLIVER_QUALITY`] (q = 1 for the regular tetrahedron, 0.66 for the six of a cube's Kuhn
+//! split, 0.77 for the corners of its five).
 
 use super::delaunay::{cross, dot, sub};
 use super::{NONE, Tetrahedralisation, circumsphere};
