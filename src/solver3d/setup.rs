@@ -57,13 +57,22 @@ pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
         return Err(refuse("absorber", "the 3D path has no damping layer yet"));
     }
     let h = case.particles.spacing_m;
+    if (width / h).round() < 2.0 {
+        return Err(refuse(
+            "flume.width_m",
+            &format!(
+                "{width} m is less than two particle spacings (h = {h} m): no layer of particles \
+                 fits between the side walls"
+            ),
+        ));
+    }
     let lattice = |extent: f64| {
         let n = (extent / h).round().max(1.0) as usize;
         (n, extent / n as f64)
     };
     let (nx, dx) = lattice(f.length_m);
     let (ny, dy) = lattice(f.height_m);
-    let nz = lattice(width).0.max(2);
+    let nz = lattice(width).0;
     let dz = width / nz as f64;
     let side_mask = |i: usize, k: usize| -> u16 {
         ((i == 0) as u16) << 1

@@ -194,6 +194,9 @@ fn cases_the_3d_path_cannot_run_are_refused_with_the_field() {
     let beach = load(&["flume.beach.toe_x_m=0.1", "flume.beach.slope=0.5"]);
     let err = setup::from_case(&beach).unwrap_err();
     assert_eq!(err.field, "flume.beach", "{err}");
+    let narrow = load(&["flume.width_m=0.025"]);
+    let err = setup::from_case(&narrow).unwrap_err();
+    assert_eq!(err.field, "flume.width_m", "{err}");
     let mut flat = load(&[]);
     flat.flume.width_m = None;
     assert_eq!(setup::from_case(&flat).unwrap_err().field, "flume.width_m");
