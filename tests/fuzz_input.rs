@@ -293,6 +293,7 @@ fn absurd_sizes_are_refused_before_seeding() {
     for (set, field) in [
         ("particles.spacing_m=1e-300", "particles.spacing_m"),
         ("flume.height_m=7e5", "flume.height_m"),
+        ("flume.width_m=7e5", "flume.width_m"),
         ("output.interval_s=1e-200", "output.interval_s"),
     ] {
         let started = Instant::now();

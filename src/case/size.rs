@@ -60,6 +60,11 @@ impl Case {
     /// Estimates the run's sizes without seeding (see [`SizeEstimate`]). Assumes the fields
     /// passed the sign checks of validation (positive spacing and lengths).
     pub fn size_estimate(&self) -> SizeEstimate {
+        self.estimate(self.flume.width_m)
+    }
+
+    /// [`Self::size_estimate`] for a tank of `width_m` (`None`: the 2D flume).
+    fn estimate(&self, width_m: Option<f64>) -> SizeEstimate {
         let h = self.particles.spacing_m;
         let fluid = self
             .water
@@ -87,7 +92,7 @@ impl Case {
             walls += (f.height_m / h).ceil() + 1.0;
         }
         let (mut fluid, mut walls) = (fluid, walls);
-        if let Some(width) = f.width_m {
+        if let Some(width) = width_m {
             // The 3D tank: every line of nodes repeated across the width, and the two side
             // walls filled with wall nodes.
             let layers = (width / h).round().max(1.0) + 1.0;
@@ -108,16 +113,15 @@ impl Case {
         let e = self.size_estimate();
         let limit = max_nodes();
         if !within(e.nodes(), limit as f64) {
-            // Name the field that makes the count: the spacing when the water does, else the
-            // flume's longer side (the walls are what a huge flume fills).
-            let field = if e.fluid >= e.walls {
-                "particles.spacing_m"
-            } else if self
-                .flume
-                .width_m
-                .is_some_and(|w| w > self.flume.length_m.max(self.flume.height_m))
+            // Name the field that makes the count: the width of a 3D tank whose 2D section
+            // would fit, else the spacing when the water does, else the flume's longer side
+            // (the walls are what a huge flume fills).
+            let field = if self.flume.width_m.is_some()
+                && within(self.estimate(None).nodes(), limit as f64)
             {
                 "flume.width_m"
+            } else if e.fluid >= e.walls {
+                "particles.spacing_m"
             } else if self.flume.height_m > self.flume.length_m {
                 "flume.height_m"
             } else {
@@ -126,12 +130,15 @@ impl Case {
             return Err((
                 field.to_owned(),
                 format!(
-                    "h = {} m in a {} × {} m flume would seed about {:.3e} nodes ({:.3e} fluid, \
-                     {:.3e} wall); the limit is {limit} (raise it with --max-particles on a \
-                     bigger machine)",
+                    "h = {} m in a {} × {}{} m flume would seed about {:.3e} nodes ({:.3e} \
+                     fluid, {:.3e} wall); the limit is {limit} (raise it with --max-particles on \
+                     a bigger machine)",
                     short(self.particles.spacing_m),
                     short(self.flume.length_m),
                     short(self.flume.height_m),
+                    self.flume
+                        .width_m
+                        .map_or(String::new(), |w| format!(" × {}", short(w))),
                     e.nodes(),
                     e.fluid,
                     e.walls
