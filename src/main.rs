@@ -198,12 +198,12 @@ fn main() {
             points,
             lattice,
             repeat,
-        }) => cmd_bench_tetra(points, lattice, repeat),
+        }) => surflab::output::bench3d::bench_tetra(points, lattice, repeat),
         Some(Command::Bench3d {
             nodes,
             steps,
             solver,
-        }) => cmd_bench3d(nodes, steps, &solver),
+        }) => surflab::output::bench3d::bench_still_tank(nodes, steps, &solver),
         #[cfg(feature = "lab")]
         Some(Command::Lab {
             case,
@@ -357,23 +357,7 @@ fn finished(ok: bool, status: &str, out_dir: &Path) -> Result<()> {
 fn run_3d(case: &surflab::case::Case, opts: &RunOptions) -> Result<()> {
     let outcome = surflab::output::run3d::run3d(case, opts)?;
     let s = &outcome.summary;
-    eprintln!(
-        "surflab: 3D, {} particles ({} fluid, {} wall nodes), {} steps, {:.3} s simulated in \
-         {:.2} s wall (real-time factor {:.3}), {:.0} particle-steps/s, median {:.2} ms/step, \
-         volume drift max {:.3e}, up to {} tetrahedra ({} slivers kept)",
-        s.particles,
-        s.fluid_particles,
-        s.wall_nodes,
-        s.steps,
-        s.simulated_s,
-        s.wall_s,
-        s.real_time_factor,
-        s.particle_steps_per_s,
-        s.median_ms_per_step,
-        s.volume_drift_max,
-        s.max_tetrahedra,
-        s.max_slivers_kept
-    );
+    eprintln!("surflab: {}", s.line());
     finished(outcome.ok(), &s.status, &opts.out_dir)
 }
 
@@ -532,165 +516,13 @@ fn cmd_study(dirs: &[PathBuf], out: Option<PathBuf>) -> Result<()> {
     Ok(())
 }
 
-fn cmd_bench_tetra(points: usize, lattice: bool, repeat: u32) -> Result<()> {
-    let limit = surflab::case::max_nodes();
-    if points < 4 || points > limit {
-        bail!("--points must be between 4 and {limit} (--max-particles), got {points}");
-    }
-    if repeat == 0 {
-        bail!("--repeat must be at least 1");
-    }
-    let cloud = surflab::mesh3d::bench_cloud(points, lattice);
-    let kind = if lattice { "lattice" } else { "random" };
-    println!(
-        "surflab bench-tetra: {} {kind} points, one thread",
-        cloud.len()
-    );
-    let mut us_per_point = Vec::new();
-    for r in 1..=repeat {
-        let t0 = Instant::now();
-        let mesh = surflab::mesh3d::tetrahedralise(&cloud);
-        let us = t0.elapsed().as_secs_f64() * 1e6 / cloud.len() as f64;
-        println!(
-            "  repeat {r}: {us:.2} µs per point, {} tetrahedra ({:.2} per point)",
-            mesh.tets.len(),
-            mesh.tets.len() as f64 / cloud.len() as f64
-        );
-        us_per_point.push(us);
-    }
-    println!("median {:.2} µs per point", median(&us_per_point));
-    Ok(())
-}
-
-fn cmd_bench3d(nodes: usize, steps: u64, solver: &str) -> Result<()> {
-    use surflab::solver3d::{STAGES_3D, Solver3, still_tank};
-    let limit = surflab::case::max_nodes();
-    if !(100..=limit).contains(&nodes) {
-        bail!("--nodes must be between 100 and {limit} (--max-particles), got {nodes}");
-    }
-    if steps == 0 {
-        bail!("--steps must be at least 1");
-    }
-    let solver = match solver {
-        "cholesky" => Solver3::Cholesky,
-        "cg" => Solver3::Cg,
-        "auto" => Solver3::Auto,
-        other => bail!("--solver must be cholesky, cg or auto, got {other:?}"),
-    };
-    if solver == Solver3::Cholesky && nodes > surflab::solver3d::CHOLESKY_LIMIT_UNKNOWNS {
-        bail!(
-            "--solver cholesky is limited to {} nodes in 3D (the factor's fill); use cg or auto",
-            surflab::solver3d::CHOLESKY_LIMIT_UNKNOWNS
-        );
-    }
-    let nz = ((nodes as f64 / 4.0).cbrt().round() as usize).max(3);
-    let mut flow = still_tank(2 * nz, nz, 2 * nz, 0.02, 0.3);
-    flow.solver = solver;
-    let n = flow.x.len();
-    println!(
-        "surflab bench3d: still tank {} × {nz} × {} nodes (y up; {n}), h = 2 cm, Δt = 10 ms, \
-         {solver:?}",
-        2 * nz,
-        2 * nz
-    );
-    let mut per_stage: Vec<Vec<f64>> = vec![Vec::new(); STAGES_3D.len()];
-    let (mut totals, mut iterations) = (Vec::new(), Vec::new());
-    let mut tets = 0;
-    for s in 1..=steps {
-        let step = flow.step(0.01)?;
-        let total: f64 = step.stage_ms.iter().sum();
-        eprintln!("  step {s}/{steps}: {total:.0} ms");
-        for (k, ms) in step.stage_ms.iter().enumerate() {
-            per_stage[k].push(*ms);
-        }
-        totals.push(total);
-        iterations.push(step.iterations as f64);
-        tets = step.tetrahedra;
-    }
-    println!("{tets} tetrahedra kept; median ms per step by stage:");
-    for (k, name) in STAGES_3D.iter().enumerate() {
-        println!("  {name:<15} {:9.1}", median(&per_stage[k]));
-    }
-    let step_ms = median(&totals);
-    println!("  {:<15} {step_ms:9.1}", "step");
-    if iterations.iter().any(|&i| i > 0.0) {
-        println!("median CG iterations: {:.0}", median(&iterations));
-    }
-    println!(
-        "particle-steps/s: {:.0}   real-time factor at Δt = 10 ms: {:.3}",
-        n as f64 / (step_ms * 1e-3),
-        10.0 / step_ms
-    );
-    Ok(())
-}
-
-/// `surflab bench` of a 3D case: `steps` steps at the run's Δt, ms per step by stage.
-fn bench_3d(case: &surflab::case::Case, steps: u64, json: bool) -> Result<()> {
-    use surflab::solver3d::{STAGES_3D, setup};
-    let mut flow = setup::from_case(case)?;
-    flow.mesh_now()?;
-    let n = flow.x.len();
-    let mut per_stage: Vec<Vec<f64>> = vec![Vec::new(); STAGES_3D.len()];
-    let (mut totals, mut t) = (Vec::new(), 0.0);
-    let started = Instant::now();
-    for k in 0..steps {
-        let dt = surflab::output::run3d::step_for(case, &flow);
-        let s = flow
-            .step(dt)
-            .with_context(|| format!("step {k} at t = {t:.5} s"))?;
-        t += dt;
-        for (k, ms) in s.stage_ms.iter().enumerate() {
-            per_stage[k].push(*ms);
-        }
-        totals.push(s.stage_ms.iter().sum::<f64>());
-    }
-    let wall = started.elapsed().as_secs_f64();
-    let step_ms = median(&totals);
-    let stages: Vec<(String, f64)> = STAGES_3D
-        .iter()
-        .zip(&per_stage)
-        .map(|(name, v)| (name.to_string(), median(v)))
-        .collect();
-    let particle_steps_per_s = (n as u64 * steps) as f64 / wall;
-    if json {
-        let obj = serde_json::json!({
-            "case": case.name,
-            "three_d": true,
-            "particles_initial": n,
-            "fluid_particles": flow.walls.iter().filter(|&&w| w == 0).count(),
-            "steps": steps,
-            "simulated_s": t,
-            "wall_s": wall,
-            "median_ms_per_step": step_ms,
-            "stage_ms": stages.iter().cloned().collect::<std::collections::BTreeMap<_, _>>(),
-            "particle_steps_per_s": particle_steps_per_s,
-            "real_time_factor": t / wall,
-        });
-        println!("{obj}");
-        return Ok(());
-    }
-    println!(
-        "{} (3D): {n} nodes, {steps} steps to t = {t:.4} s; median ms per step by stage:",
-        case.name
-    );
-    for (name, ms) in &stages {
-        println!("  {name:<15} {ms:9.2}");
-    }
-    println!("  {:<15} {step_ms:9.2}", "step");
-    println!(
-        "particle-steps/s: {particle_steps_per_s:.0}   real-time factor: {:.3}",
-        t / wall
-    );
-    Ok(())
-}
-
 fn cmd_bench(path: &Path, steps: u64, json: bool, set: &[String]) -> Result<()> {
     if steps == 0 {
         bail!("--steps must be at least 1");
     }
     let case = load(path, set, None)?;
     if case.flume.width_m.is_some() {
-        return bench_3d(&case, steps, json);
+        return surflab::output::bench3d::bench_case(&case, steps, json);
     }
     let mut sim = Simulation::new(&case).context("seeding the case")?;
     let n = sim.particles.len();

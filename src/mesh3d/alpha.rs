@@ -103,12 +103,15 @@ pub fn alpha_shape_with(
     assert_eq!(walls.len(), n, "one wall mask per node");
     let is_wall = |i: u32| walls[i as usize] != 0;
     let nodes = |t: usize| mesh.tets[t].map(|i| &points[i as usize]);
+    let is_sliver: Vec<bool> = (0..mesh.tets.len())
+        .map(|t| quality(nodes(t)) < SLIVER_QUALITY)
+        .collect();
     let candidate: Vec<bool> = (0..mesh.tets.len())
         .map(|t| {
             let x = nodes(t);
             // A sliver's circumsphere is ill-defined (four nodes of one lattice face, moved by
             // round-off, give any radius at all): it is judged by its largest face circle.
-            let radius = if quality(x) < SLIVER_QUALITY {
+            let radius = if is_sliver[t] {
                 largest_face_circumradius(x)
             } else {
                 circumsphere(x[0], x[1], x[2], x[3]).1
@@ -154,7 +157,7 @@ pub fn alpha_shape_with(
         })
         .collect();
     let sliver: Vec<bool> = (0..mesh.tets.len())
-        .map(|t| keep[t] && quality(nodes(t)) < SLIVER_QUALITY)
+        .map(|t| keep[t] && is_sliver[t])
         .collect();
     // A face of a kept tetrahedron is on the surface when nothing kept is across it and its
     // nodes do not share a wall.

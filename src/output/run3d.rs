@@ -63,6 +63,29 @@ pub struct Summary3 {
     pub max_slivers_kept: usize,
 }
 
+impl Summary3 {
+    /// The one line `surflab run` prints at the end of a 3D run.
+    pub fn line(&self) -> String {
+        format!(
+            "3D, {} particles ({} fluid, {} wall nodes), {} steps, {:.3} s simulated in {:.2} s \
+             wall (real-time factor {:.3}), {:.0} particle-steps/s, median {:.2} ms/step, volume \
+             drift max {:.3e}, up to {} tetrahedra ({} slivers kept)",
+            self.particles,
+            self.fluid_particles,
+            self.wall_nodes,
+            self.steps,
+            self.simulated_s,
+            self.wall_s,
+            self.real_time_factor,
+            self.particle_steps_per_s,
+            self.median_ms_per_step,
+            self.volume_drift_max,
+            self.max_tetrahedra,
+            self.max_slivers_kept
+        )
+    }
+}
+
 /// What a finished (or stopped) 3D run produced.
 pub struct Run3Outcome {
     pub summary: Summary3,

@@ -1,0 +1,291 @@
+//! The step's pressure equation on the α-shape's tetrahedra and the end-of-step velocity
+//! (issue 26). Strong form, as in 2D (method.md §1): ∇²p = (ρ/Δt) ∇·u*, p = 0 on the free
+//! surface, and on a wall u·n = 0 at the end of the step, i.e. ∂p/∂n = (ρ/Δt) u*·n. Weakly,
+//! with the wall condition natural: Σ_e V b_i·b_j p_j = (ρ/Δt) Σ_e V b_i·ū*_e (ū*_e the
+//! element's mean predicted velocity). A linear pressure is reproduced exactly, so still
+//! water's hydrostatic pressure is exact on any mesh whose free surface is flat.
+
+use crate::fem::tet::{P1Tet, p1_tet};
+use crate::mesh3d::{AlphaShape, Tetrahedralisation};
+use faer::Side;
+use faer::prelude::Solve;
+use faer::sparse::{SparseColMat, Triplet};
+use nalgebra::Vector3;
+
+/// Why a pressure solve could not be made.
+#[derive(Debug, thiserror::Error)]
+pub enum PressureError {
+    #[error("a kept tetrahedron ({0}) is flat: its gradients do not exist")]
+    FlatElement(u32),
+    #[error("the pressure matrix could not be built: {0}")]
+    Matrix(String),
+    #[error("the pressure matrix is not positive definite: a body of water has no free surface")]
+    NotDefinite,
+    #[error("the flow diverged: {0}")]
+    Diverged(String),
+    #[error(
+        "{unknowns} pressure unknowns are too many for a 3D Cholesky factor (limit {limit}, its \
+         fill would exhaust the memory): use CG"
+    )]
+    TooLarge { unknowns: usize, limit: usize },
+}
+
+/// How the pressure equation is solved.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Solver3 {
+    /// faer's sparse Cholesky (its own fill-reducing ordering), factored every step.
+    Cholesky,
+    /// Jacobi-preconditioned conjugate gradients to a relative residual of 1e-10, from zero.
+    Cg,
+    /// Cholesky up to [`CHOLESKY_MAX_UNKNOWNS`], CG above.
+    Auto,
+}
+
+/// Where Cholesky stops paying in 3D (`surflab bench3d`, still tank, this 2-core VM): the
+/// pressure stage took 135 against 154 ms (CG, 345 iterations) at 10 976 nodes, 414 against
+/// 342 (408) at 19 652, 2 260 against 1 060 (552) at 48 668 and 10 288 against 2 656 (698) at
+/// 97 556; the fill of a 3D factor grows faster than CG's iterations. (CG needed twice the
+/// iterations while flat tetrahedra were in the operators, and the crossing was near 70 000.)
+pub const CHOLESKY_MAX_UNKNOWNS: usize = 15_000;
+
+/// The largest system a 3D Cholesky factor is allowed: its fill grows like n^(4/3), and it
+/// held 1.1 GB at 97 556 nodes, so about 5 GB here.
+pub const CHOLESKY_LIMIT_UNKNOWNS: usize = 300_000;
+
+/// Below this quality (6√2 V / l_rms³) a kept tetrahedron is flat: it is left out of the
+/// operators. Its Laplacian entries V b_i·b_j grow like its base area over its thickness, so
+/// four nodes of a seeding lattice's cube that round-off has made a tetrahedron of 1e-17 m
+/// thickness put entries of 1e12 into the pressure matrix (still water jumped from 1e-16 to
+/// 1.5e-2 m/s in one step when the first such sliver appeared). Leaving out a tetrahedron of
+/// little volume changes the operators' consistency by the order of its thickness; its faces
+/// stay interior for the α-shape. At 1e-3 the 3D dam break diverged at T = 2.63 (4.7 km/s); at
+/// 0.01 it ran to its end; at 0.05 (every sliver) a node lost all its elements and the
+/// pressure matrix its definiteness at T = 3.26 (`docs/three_d.md`).
+pub const FLAT_QUALITY: f64 = 0.01;
+
+/// The P1 element of each kept tetrahedron, in the order of `shape.kept`: built once per step
+/// and shared by the volume, the pressure and the correction. A flat one (quality below
+/// [`FLAT_QUALITY`]) gets zero volume and gradients, so that it adds nothing.
+pub fn elements(
+    points: &[[f64; 3]],
+    mesh: &Tetrahedralisation,
+    shape: &AlphaShape,
+) -> Result<Vec<P1Tet>, PressureError> {
+    shape
+        .kept
+        .iter()
+        .map(|&t| {
+            let nodes = mesh.tets[t as usize].map(|i| &points[i as usize]);
+            if crate::mesh3d::quality(nodes) < FLAT_QUALITY {
+                return Ok(P1Tet {
+                    volume: 0.0,
+                    grad: [Vector3::zeros(); 4],
+                });
+            }
+            p1_tet(nodes.map(|p| Vector3::from(*p))).ok_or(PressureError::FlatElement(t))
+        })
+        .collect()
+}
+
+/// The weak free surface of [`pressure`]: the free-surface nodes keep their continuity row and
+/// p = 0 holds weakly, as the Robin condition ∂p/∂n + p/λ = 0 on the free-surface triangles.
+#[derive(Debug, Clone, Copy)]
+pub struct WeakSurface<'a> {
+    /// The node positions, m (for the triangles' areas and normals).
+    pub points: &'a [[f64; 3]],
+    /// λ, m.
+    pub length_m: f64,
+}
+
+/// The pressure (Pa) at every node (0 off the mesh, and on the free surface unless `weak`) for
+/// the predicted velocity `u_star` (m/s), density `rho` (kg/m³) and step `dt_s`, and the
+/// solver's iterations (0 for Cholesky); `elements` as [`elements`] gives them.
+///
+/// With `weak`, the free-surface boundary terms of the weak form stay: the Robin term
+/// Σ (A/3) p_i / λ on the diagonal and −(ρ/Δt) Σ (A/3) u*_i·n on the right (lumped over each
+/// free-surface triangle of area A and outward normal n), so that a hydrostatic pressure is
+/// still exact under a flat surface.
+#[allow(clippy::too_many_arguments)]
+pub fn pressure(
+    mesh: &Tetrahedralisation,
+    shape: &AlphaShape,
+    elements: &[P1Tet],
+    u_star: &[Vector3<f64>],
+    rho: f64,
+    dt_s: f64,
+    solver: Solver3,
+    weak: Option<WeakSurface>,
+) -> Result<(Vec<f64>, usize), PressureError> {
+    let n = shape.in_mesh.len();
+    // Unknowns: the nodes of the mesh that are not on the free surface (all of them with the
+    // weak surface).
+    // A node whose elements are all flat ([`FLAT_QUALITY`]) has no row: it is left out.
+    let mut support = vec![0.0; n];
+    for (&t, e) in shape.kept.iter().zip(elements) {
+        for &i in &mesh.tets[t as usize] {
+            support[i as usize] += e.volume;
+        }
+    }
+    let mut unknown = vec![u32::MAX; n];
+    let mut count = 0usize;
+    for i in 0..n {
+        if shape.in_mesh[i] && support[i] > 0.0 && (weak.is_some() || !shape.free_surface[i]) {
+            unknown[i] = count as u32;
+            count += 1;
+        }
+    }
+    let solver = match solver {
+        Solver3::Auto if count <= CHOLESKY_MAX_UNKNOWNS => Solver3::Cholesky,
+        Solver3::Auto => Solver3::Cg,
+        other => other,
+    };
+    if solver == Solver3::Cholesky && count > CHOLESKY_LIMIT_UNKNOWNS {
+        return Err(PressureError::TooLarge {
+            unknowns: count,
+            limit: CHOLESKY_LIMIT_UNKNOWNS,
+        });
+    }
+    let mut triplets = Vec::with_capacity(16 * shape.kept.len());
+    let mut rhs = vec![0.0; count];
+    for (&t, e) in shape.kept.iter().zip(elements) {
+        let v = mesh.tets[t as usize];
+        let mean_u: Vector3<f64> =
+            v.iter().map(|&i| u_star[i as usize]).sum::<Vector3<f64>>() / 4.0;
+        for a in 0..4 {
+            let row = unknown[v[a] as usize];
+            if row == u32::MAX {
+                continue;
+            }
+            rhs[row as usize] += rho / dt_s * e.volume * e.grad[a].dot(&mean_u);
+            for b in 0..4 {
+                let col = unknown[v[b] as usize];
+                // Cholesky reads the lower triangle; CG needs the whole matrix.
+                if col != u32::MAX && (col <= row || solver == Solver3::Cg) {
+                    let k = e.volume * e.grad[a].dot(&e.grad[b]);
+                    triplets.push(Triplet::new(row as usize, col as usize, k));
+                }
+            }
+        }
+    }
+    if let Some(w) = weak {
+        for f in &shape.surface {
+            let [a, b, c] = f.map(|i| Vector3::from(w.points[i as usize]));
+            let normal2 = (b - a).cross(&(c - a));
+            let area = 0.5 * normal2.norm();
+            if area == 0.0 {
+                continue;
+            }
+            let normal = normal2 / (2.0 * area);
+            for &i in f {
+                let row = unknown[i as usize];
+                if row == u32::MAX {
+                    continue;
+                }
+                triplets.push(Triplet::new(
+                    row as usize,
+                    row as usize,
+                    area / 3.0 / w.length_m,
+                ));
+                rhs[row as usize] -= rho / dt_s * area / 3.0 * u_star[i as usize].dot(&normal);
+            }
+        }
+    }
+    let mut p = vec![0.0; n];
+    if count == 0 {
+        return Ok((p, 0));
+    }
+    let k = SparseColMat::<usize, f64>::try_new_from_triplets(count, count, &triplets)
+        .map_err(|e| PressureError::Matrix(format!("{e:?}")))?;
+    let b = faer::Mat::<f64>::from_fn(count, 1, |i, _| rhs[i]);
+    let (x, iterations) = match solver {
+        Solver3::Cholesky => {
+            let llt = k
+                .sp_cholesky(Side::Lower)
+                .map_err(|_| PressureError::NotDefinite)?;
+            (llt.solve(&b), 0)
+        }
+        Solver3::Cg | Solver3::Auto => {
+            use faer::dyn_stack::{MemBuffer, MemStack};
+            use faer::matrix_free::conjugate_gradient::{
+                CgParams, conjugate_gradient, conjugate_gradient_scratch,
+            };
+            let mut dinv = faer::diag::Diag::<f64>::zeros(count);
+            for (j, col) in (0..count).map(|j| (j, k.as_ref().col_range(j))) {
+                let rows = &k.as_ref().symbolic().row_idx()[col.clone()];
+                let vals = &k.as_ref().val()[col];
+                let d = rows
+                    .iter()
+                    .zip(vals)
+                    .find(|(r, _)| **r == j)
+                    .map_or(0.0, |(_, v)| *v);
+                dinv[j] = if d > 0.0 { 1.0 / d } else { 1.0 };
+            }
+            let precond = dinv.as_ref();
+            let par = faer::Par::Seq;
+            let mut mem = MemBuffer::new(conjugate_gradient_scratch(precond, k.as_ref(), 1, par));
+            let mut x = faer::Mat::<f64>::zeros(count, 1);
+            let params = CgParams {
+                rel_tolerance: 1e-10,
+                max_iters: 20 * count + 100,
+                ..Default::default()
+            };
+            let info = conjugate_gradient(
+                x.as_mut(),
+                precond,
+                k.as_ref(),
+                b.as_ref(),
+                params,
+                |_| {},
+                par,
+                MemStack::new(&mut mem),
+            )
+            .map_err(|e| PressureError::Diverged(format!("conjugate gradients: {e:?}")))?;
+            (x, info.iter_count)
+        }
+    };
+    for i in 0..n {
+        if unknown[i] != u32::MAX {
+            p[i] = x[(unknown[i] as usize, 0)];
+            if !p[i].is_finite() {
+                return Err(PressureError::Diverged(format!(
+                    "the pressure at node {i} is {}",
+                    p[i]
+                )));
+            }
+        }
+    }
+    Ok((p, iterations))
+}
+
+/// The end-of-step velocity u = u* − (Δt/ρ) ∇p, ∇p the lumped nodal gradient (m/s); nodes off
+/// the mesh keep u*.
+pub fn correct(
+    mesh: &Tetrahedralisation,
+    shape: &AlphaShape,
+    elements: &[P1Tet],
+    u_star: &[Vector3<f64>],
+    p: &[f64],
+    rho: f64,
+    dt_s: f64,
+) -> Vec<Vector3<f64>> {
+    let n = u_star.len();
+    let mut mass = vec![0.0; n];
+    let mut grad = vec![Vector3::zeros(); n];
+    for (&t, e) in shape.kept.iter().zip(elements) {
+        let v = mesh.tets[t as usize];
+        let g: Vector3<f64> = (0..4).map(|j| e.grad[j] * p[v[j] as usize]).sum();
+        for &i in &v {
+            mass[i as usize] += e.volume / 4.0;
+            grad[i as usize] += g * (e.volume / 4.0);
+        }
+    }
+    (0..n)
+        .map(|i| {
+            if mass[i] > 0.0 {
+                u_star[i] - grad[i] / mass[i] * (dt_s / rho)
+            } else {
+                u_star[i]
+            }
+        })
+        .collect()
+}
