@@ -89,6 +89,14 @@ pub struct SolverSettings {
     /// the straight-line move shrinks every element whose flow strains it (det ∇u < 0, as in
     /// irrotational wave motion) by Δt² |det ∇u| A per step. Default off (false).
     pub area_correction: bool,
+    /// Move each fluid particle by the implicit midpoint rule in the end-of-step velocity
+    /// field, x ← x + Δt (I − Δt G/2)⁻¹ uⁿ⁺¹ (G the particle's area-weighted ∇uⁿ⁺¹), instead of
+    /// x ← x + Δt uⁿ⁺¹. In a linear flow this is the exact midpoint map, which keeps every
+    /// element's area when ∇·u = 0, where the straight-line move changes it by Δt² A det ∇u
+    /// (see `solver/motion.rs`). Default off (false: the thesis's eq. 2.59): on the dam break
+    /// the straight move's loss hides a gain of the α-shape at the spreading front, and the
+    /// drift bar there is met only by the two cancelling (docs/validation/surface_mode.md).
+    pub midpoint_move: bool,
     /// `None`: p = 0 strongly on free-surface fluid nodes. λ > 0: those nodes keep their
     /// continuity equation and p = 0 holds weakly, as the Robin condition
     /// ∂p/∂n + p/(λh) = 0 on the free-surface edges (see `solver/pressure.rs`). Default `None`
@@ -142,6 +150,7 @@ impl Default for SolverSettings {
             merge_surface_distance_h: None,
             volume_recovery: false,
             area_correction: false,
+            midpoint_move: false,
             weak_surface_length_h: None,
             surface_filter: None,
             volume_relaxation_s: None,

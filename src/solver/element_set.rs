@@ -513,7 +513,7 @@ impl ElementSet {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::mesh::{ShapeParams, alpha_shape, triangulate};
     use crate::particles::Particles;
@@ -521,7 +521,7 @@ mod tests {
     /// A 12 × 8 block of water on a lattice of spacing h whose left half is exact (co-circular
     /// squares, which δ > 0 merges) and whose right half is jittered (triangles), meshed with
     /// the solver's own remesh.
-    fn mixed_mesh(delta: f64) -> (Particles, Mesh) {
+    pub(in crate::solver) fn mixed_mesh(delta: f64) -> (Particles, Mesh) {
         let h = 0.1;
         let mut state = 7u64;
         let mut next = || {

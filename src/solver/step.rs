@@ -27,7 +27,8 @@
 //!     `solver.geometry_theta`);
 //! 11. `filter` (optional, `filter.rs`): the fourth-difference filter of the surface
 //!     velocities;
-//! 12. `move`: xⁿ⁺¹ = xⁿ + Δt uⁿ⁺¹ (thesis eq. 2.59), then the wall guard;
+//! 12. `move`: xⁿ⁺¹ = xⁿ + Δt uⁿ⁺¹ (thesis eq. 2.59; with `midpoint_move`,
+//!     xⁿ + Δt (I − Δt ∇uⁿ⁺¹/2)⁻¹ uⁿ⁺¹, `motion.rs`), then the wall guard;
 //! 13. `recover` (optional, `volume.rs`): the global volume recovery on the free surface.
 //!
 //! If the new velocities would turn a kept triangle inside out within Δt, and the Δt policy
