@@ -65,3 +65,28 @@ fn trouble_stops_a_3d_run_and_keeps_what_was_recorded() {
     assert!(stderr.contains("did not finish"), "{stderr}");
     common::assert_stopped_and_kept(&dir);
 }
+
+/// A 2D-only remedy asked of a 3D case is refused with its field, by `check` and by `run`,
+/// before anything is written (the 3D step would silently ignore it).
+#[test]
+fn a_2d_only_setting_in_a_3d_case_is_refused_with_its_field() {
+    let dir = common::out_dir("three_d_refused");
+    let (code, stderr) = run(&dir, &["--set", "solver.surface_filter=0.2"]);
+    assert_eq!(code, Some(1), "{stderr}");
+    assert!(stderr.contains("solver.surface_filter"), "{stderr}");
+    assert!(!dir.join("summary.json").exists());
+    let out = Command::new(env!("CARGO_BIN_EXE_surflab"))
+        .current_dir(common::root())
+        .args([
+            "check",
+            "cases/tank3d_still.toml",
+            "--set",
+            "solver.midpoint_move=true",
+        ])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    println!("check: exit {:?}: {stderr}", out.status.code());
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("solver.midpoint_move"), "{stderr}");
+}

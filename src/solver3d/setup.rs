@@ -27,7 +27,8 @@ fn refuse(field: &str, message: &str) -> Setup3Error {
 }
 
 /// The 3D flow of `case` at rest (hydrostatic pressure), or why the 3D path cannot run it yet:
-/// no width, a bed that is not flat, a wavemaker or an absorber. The case's sizes were checked
+/// no width, a bed that is not flat, a wavemaker, an absorber or one of the 2D solver's
+/// optional remedies. The case's sizes were checked
 /// when it was loaded (`Case::validate` counts the 3D nodes).
 pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
     let f = &case.flume;
@@ -55,6 +56,31 @@ pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
     }
     if case.absorber.is_some() {
         return Err(refuse("absorber", "the 3D path has no damping layer yet"));
+    }
+    // The 2D solver's optional remedies, off by default: asked for in a 3D case they would be
+    // silently ignored, so they are refused.
+    let s = &case.solver;
+    let two_d_only = [
+        ("solver.delta", s.delta > 0.0),
+        ("solver.surface_filter", s.surface_filter.is_some()),
+        (
+            "solver.merge_surface_distance_h",
+            s.merge_surface_distance_h.is_some(),
+        ),
+        (
+            "solver.volume_relaxation_s",
+            s.volume_relaxation_s.is_some(),
+        ),
+        ("solver.geometry_theta", s.geometry_theta.is_some()),
+        ("solver.midpoint_move", s.midpoint_move),
+        ("solver.area_correction", s.area_correction),
+        ("solver.volume_recovery", s.volume_recovery),
+    ];
+    if let Some((field, _)) = two_d_only.iter().find(|(_, on)| *on) {
+        return Err(refuse(
+            field,
+            "the 3D path does not have this yet (2D only): leave it at its default (off)",
+        ));
     }
     let h = case.particles.spacing_m;
     if (width / h).round() < 2.0 {
