@@ -1,8 +1,8 @@
 //! Stage `move`: commit uⁿ⁺¹, pⁿ⁺¹ and π (stopping the run if a velocity is not finite or
-//! beyond the speed limit), move the fluid particles, x ← x + Δt uⁿ⁺¹ (thesis
-//! eq. 2.59; with `solver.midpoint_move` by the implicit midpoint rule in the end-of-step
-//! flow, [`midpoint_factors`]), and put back any particle that came closer to the solid than the wall margin
-//! (method.md §2 (c)–(d)), removing its velocity into the wall. Also the inversion check that
+//! beyond the speed limit), move the fluid particles, x ← x + Δt uⁿ⁺¹ (thesis eq. 2.59; with
+//! `solver.midpoint_move` by the implicit midpoint rule in the end-of-step flow,
+//! [`midpoint_factors`]), and put back any particle that came closer to the solid than the
+//! wall margin (method.md §2 (c)–(d)), removing its velocity into the wall. Also the inversion check that
 //! lets the step halve Δt. In a damping layer (`absorber`), fluid velocities are first
 //! multiplied by max(0, 1 − Δt·β·f²), f the fraction of the way into the layer.
 

@@ -28,8 +28,8 @@ fn refuse(field: &str, message: &str) -> Setup3Error {
 
 /// The 3D flow of `case` at rest (hydrostatic pressure), or why the 3D path cannot run it yet:
 /// no width, a bed that is not flat, a wavemaker, an absorber or one of the 2D solver's
-/// optional remedies. The case's sizes were checked
-/// when it was loaded (`Case::validate` counts the 3D nodes).
+/// optional remedies. The case's sizes were checked when it was loaded (`Case::validate`
+/// counts the 3D nodes).
 pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
     let f = &case.flume;
     let Some(width) = f.width_m else {
