@@ -331,15 +331,8 @@ fn cmd_run(
     let outcome = run(&case, &opts)?;
     let s = &outcome.summary;
     eprintln!(
-        "surflab: {} particles ({} fluid), {} steps, {:.3} s simulated in {:.2} s wall (real-time factor {:.3}), {:.0} particle-steps/s, median {:.2} ms/step, volume drift max {:.3e}",
-        s.particles,
-        s.fluid_particles,
-        s.steps,
-        s.simulated_s,
-        s.wall_s,
-        s.real_time_factor,
-        s.particle_steps_per_s,
-        s.median_ms_per_step,
+        "surflab: {}, volume drift max {:.3e}",
+        s.run.line(),
         s.volume_drift_max
     );
     finished(outcome.ok(), &s.status, &out_dir)
@@ -411,33 +404,16 @@ fn cmd_validate(
                 rrd: false,
                 progress: true,
             };
-            if case.flume.width_m.is_some() {
+            let (figures, drift, status) = if case.flume.width_m.is_some() {
                 let s = surflab::output::run3d::run3d(&case, &opts)?.summary;
-                eprintln!(
-                    "surflab: {} particles (3D), {} steps, {:.3} s simulated in {:.1} s wall, \
-                     median {:.2} ms/step",
-                    s.particles, s.steps, s.simulated_s, s.wall_s, s.median_ms_per_step
-                );
-                let particles = Some(s.particles);
-                (
-                    dir,
-                    case,
-                    s.volume_drift_max,
-                    s.simulated_s,
-                    s.status,
-                    particles,
-                )
+                (s.run, s.volume_drift_max, s.status)
             } else {
-                let outcome = run(&case, &opts)?;
-                let s = &outcome.summary;
-                eprintln!(
-                    "surflab: {} particles, {} steps, {:.3} s simulated in {:.1} s wall, median {:.2} ms/step",
-                    s.particles, s.steps, s.simulated_s, s.wall_s, s.median_ms_per_step
-                );
-                let (drift, simulated, status) =
-                    (s.volume_drift_max, s.simulated_s, s.status.clone());
-                (dir, case, drift, simulated, status, Some(s.particles))
-            }
+                let s = run(&case, &opts)?.summary;
+                (s.run, s.volume_drift_max, s.status)
+            };
+            eprintln!("surflab: {}", figures.line());
+            let (simulated, particles) = (figures.simulated_s, Some(figures.particles));
+            (dir, case, drift, simulated, status, particles)
         }
     };
     if status != "ok" {

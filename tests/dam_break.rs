@@ -31,13 +31,14 @@ fn run_at(spacing_m: f64, name: &str, delta: f64) -> Report {
     let case = common::case("dam_break.toml", &[&until, &spacing, &delta_set]);
     let outcome = common::run_case(&case, name, false);
     assert!(outcome.ok(), "{}", outcome.summary.status);
-    let series = DamBreakSeries::from_integrals(&outcome.series, Some(outcome.summary.particles));
+    let series =
+        DamBreakSeries::from_integrals(&outcome.series, Some(outcome.summary.run.particles));
     let report = dam_break(&case, &series).expect("the dam break is scored");
     println!(
         "dam break h = {:.2} mm, δ = {delta}: {} steps, {:.1} ms/step median",
         spacing_m * 1e3,
-        outcome.summary.steps,
-        outcome.summary.median_ms_per_step
+        outcome.summary.run.steps,
+        outcome.summary.run.median_ms_per_step
     );
     for c in &report.checks {
         let verdict = if c.passed { "pass" } else { "FAIL" };

@@ -30,6 +30,8 @@ pub const SLIVER_QUALITY: f64 = 0.05;
 pub struct AlphaShape {
     /// Indices into the tetrahedralisation's `tets`.
     pub kept: Vec<u32>,
+    /// The quality ([`quality`]) of each kept tetrahedron, in the order of `kept`.
+    pub kept_quality: Vec<f64>,
     /// Free-surface triangles: faces of kept tetrahedra with no kept tetrahedron across them
     /// and not on a wall (three nodes of one wall); nodes ordered so that (b − a) × (c − a)
     /// points out of the water.
@@ -103,9 +105,8 @@ pub fn alpha_shape_with(
     assert_eq!(walls.len(), n, "one wall mask per node");
     let is_wall = |i: u32| walls[i as usize] != 0;
     let nodes = |t: usize| mesh.tets[t].map(|i| &points[i as usize]);
-    let is_sliver: Vec<bool> = (0..mesh.tets.len())
-        .map(|t| quality(nodes(t)) < SLIVER_QUALITY)
-        .collect();
+    let quality_of: Vec<f64> = (0..mesh.tets.len()).map(|t| quality(nodes(t))).collect();
+    let is_sliver: Vec<bool> = quality_of.iter().map(|&q| q < SLIVER_QUALITY).collect();
     let candidate: Vec<bool> = (0..mesh.tets.len())
         .map(|t| {
             let x = nodes(t);
@@ -194,6 +195,7 @@ pub fn alpha_shape_with(
             continue;
         }
         shape.kept.push(t as u32);
+        shape.kept_quality.push(quality_of[t]);
         shape.slivers_kept += sliver[t] as usize;
         let v = mesh.tets[t];
         for &i in &v {

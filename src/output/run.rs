@@ -3,7 +3,7 @@
 //! end was. Numerical trouble ends the run with a status; what was recorded stays readable.
 
 use super::recorder::{Frame, FrameRecorder, StageStats};
-use super::summary::{GaugeSummary, Summary, median};
+use super::summary::{GaugeSummary, RunFigures, Summary, median};
 use super::surf::{SurfRecorder, log_profiles, write_profiles};
 use super::timeseries::{GaugeWriter, TimeseriesWriter, gauge_columns};
 use crate::case::Case;
@@ -233,20 +233,18 @@ fn summarize(sim: &Simulation, series: &[Integrals], m: &Measured, status: Strin
         .fold(0.0, f64::max);
     let mut stages = m.timings.stage_medians();
     stages.insert("logging_per_output".into(), median(&m.logging_ms));
-    let n = sim.particles.len();
-    let fluid = sim.particles.fluid_count();
     Summary {
         case: sim.case.name.clone(),
         parameters: sim.case.clone(),
-        particles: n,
-        fluid_particles: fluid,
-        wall_nodes: n - fluid,
-        steps: sim.steps,
-        simulated_s: sim.time_s,
-        wall_s,
-        real_time_factor: sim.time_s / wall_s.max(1e-9),
-        particle_steps_per_s: m.particle_steps / wall_s.max(1e-9),
-        median_ms_per_step: m.timings.median_total_ms(),
+        run: RunFigures::new(
+            sim.particles.len(),
+            sim.particles.fluid_count(),
+            sim.steps,
+            sim.time_s,
+            wall_s,
+            m.particle_steps,
+            m.timings.median_total_ms(),
+        ),
         median_stage_ms: stages,
         median_pressure_iterations: median(&m.iterations),
         initial_volume_m2: v0,

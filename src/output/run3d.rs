@@ -7,7 +7,7 @@
 use super::colormap::ColorScale;
 use super::rrd::SIM_TIMELINE;
 use super::run::{Progress, RunError, RunOptions, io_err};
-use super::summary::median;
+use super::summary::{RunFigures, median};
 use crate::case::Case;
 use crate::solver3d::{Flow3, Integrals3, STAGES_3D, setup};
 use rerun::{RecordingStream, RecordingStreamBuilder};
@@ -44,15 +44,9 @@ pub struct Summary3 {
     pub parameters: Case,
     /// "ok", or why the run stopped.
     pub status: String,
-    pub particles: usize,
-    pub fluid_particles: usize,
-    pub wall_nodes: usize,
-    pub steps: u64,
-    pub simulated_s: f64,
-    pub wall_s: f64,
-    pub real_time_factor: f64,
-    pub particle_steps_per_s: f64,
-    pub median_ms_per_step: f64,
+    /// Particles, steps and speed, with the 2D summary's keys.
+    #[serde(flatten)]
+    pub run: RunFigures,
     /// Median ms per step of each stage, in the order of `stages`.
     pub median_stage_ms: Vec<f64>,
     pub stages: Vec<String>,
@@ -67,18 +61,8 @@ impl Summary3 {
     /// The one line `surflab run` prints at the end of a 3D run.
     pub fn line(&self) -> String {
         format!(
-            "3D, {} particles ({} fluid, {} wall nodes), {} steps, {:.3} s simulated in {:.2} s \
-             wall (real-time factor {:.3}), {:.0} particle-steps/s, median {:.2} ms/step, volume \
-             drift max {:.3e}, up to {} tetrahedra ({} slivers kept)",
-            self.particles,
-            self.fluid_particles,
-            self.wall_nodes,
-            self.steps,
-            self.simulated_s,
-            self.wall_s,
-            self.real_time_factor,
-            self.particle_steps_per_s,
-            self.median_ms_per_step,
+            "3D, {}, volume drift max {:.3e}, up to {} tetrahedra ({} slivers kept)",
+            self.run.line(),
             self.volume_drift_max,
             self.max_tetrahedra,
             self.max_slivers_kept
@@ -228,15 +212,15 @@ pub fn run3d(case: &Case, opts: &RunOptions) -> Result<Run3Outcome, RunError> {
     let summary = Summary3 {
         parameters: case.clone(),
         status,
-        particles: flow.x.len(),
-        fluid_particles: fluid,
-        wall_nodes: flow.x.len() - fluid,
-        steps,
-        simulated_s: t,
-        wall_s,
-        real_time_factor: t / wall_s.max(1e-12),
-        particle_steps_per_s: particle_steps / wall_s.max(1e-12),
-        median_ms_per_step: median(&step_ms),
+        run: RunFigures::new(
+            flow.x.len(),
+            fluid,
+            steps,
+            t,
+            wall_s,
+            particle_steps,
+            median(&step_ms),
+        ),
         median_stage_ms: stage_ms.iter().map(|v| median(v)).collect(),
         stages: STAGES_3D.iter().map(|s| s.to_string()).collect(),
         initial_volume_m3: initial_volume,

@@ -74,9 +74,10 @@ pub fn elements(
     shape
         .kept
         .iter()
-        .map(|&t| {
+        .zip(&shape.kept_quality)
+        .map(|(&t, &quality)| {
             let nodes = mesh.tets[t as usize].map(|i| &points[i as usize]);
-            if crate::mesh3d::quality(nodes) < FLAT_QUALITY {
+            if quality < FLAT_QUALITY {
                 return Ok(P1Tet {
                     volume: 0.0,
                     grad: [Vector3::zeros(); 4],
