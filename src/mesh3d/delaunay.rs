@@ -19,6 +19,10 @@ use robust::{Coord3D, insphere, orient3d};
 /// No neighbour across this face (the face is on the boundary of the tetrahedralisation).
 pub const NONE: u32 = u32::MAX;
 
+/// The most points one tetrahedralisation takes: the links of [`Tet::n`] number tetrahedra
+/// in 30 bits, and a tetrahedralisation holds about 7 per point (27 made per insertion).
+pub const MAX_POINTS: usize = 1 << 26;
+
 /// How far the enclosing tetrahedron's corners are, in diagonals of the points' bounding box.
 const FAR: f64 = 1.0e5;
 
@@ -239,22 +243,25 @@ impl FaceTable {
     }
 }
 
+/// The float filter's band, relative to r²: within it only the exact predicate decides.
+const BAND: f64 = 1.0 / (1u64 << 17) as f64;
+
 /// A tetrahedron's circumsphere, cached as a float filter for [`Builder::conflict`].
 #[derive(Clone, Copy, Default)]
 struct Sphere {
     c: [f64; 3],
+    /// r², or NaN for a sliver whose centre is not to be trusted (then only the exact test
+    /// decides: every comparison with NaN is false).
     r2: f64,
-    /// The rounding bound on |q − c|² − r² for any q within 2 r of the centre; infinite
-    /// for a sliver whose centre is not to be trusted (then only the exact test decides).
-    tol: f64,
 }
 
 impl Sphere {
-    /// The circumsphere of the positively oriented `v` and its filter's tolerance, from a
-    /// generous bound `err` on the centre's rounding error: ε times the tetrahedron's
-    /// condition κ (longest edge cubed over six times its volume) times its size. Computing
-    /// |q − c|² − r² then errs by at most 2 (d + r) err + 8 ε (d² + r²), d = |q − c|, which
-    /// for d ≤ 2 r is at most 6 r err + 40 ε r².
+    /// The circumsphere of the positively oriented `v`, trusted when a generous bound `err`
+    /// on the centre's rounding error (ε times the tetrahedron's condition κ — longest edge
+    /// from `v[0]` cubed over six times its volume — times its size) is below 2⁻²⁰ r.
+    /// Computing |q − c|² − r² then errs by at most 2 (d + r) err + 8 ε (d² + r²),
+    /// d = |q − c|, which for d ≤ 2 r is at most 6 r err + 40 ε r² < [`BAND`] r²; a point
+    /// computed outside r² (1 + BAND) is outside whatever d.
     fn of(p: &[[f64; 3]], v: [u32; 4]) -> Sphere {
         let a = &p[v[0] as usize];
         let (o, inv, l2) =
@@ -264,40 +271,64 @@ impl Sphere {
         let kappa = 2.0 * l2 * l * inv.abs();
         let c = [a[0] + o[0], a[1] + o[1], a[2] + o[2]];
         // The centre's error: |δo| ≲ 20 ε κ (l + r) from the quotient, with a margin of ten
-        // (tested against the exact predicate in tests.rs), plus rounding of the absolute
+        // (tested against the exact predicate below), plus rounding of the absolute
         // coordinates.
         let size = c[0].abs().max(c[1].abs()).max(c[2].abs());
         let r = r2.sqrt();
         let err = 256.0 * f64::EPSILON * (kappa * (l + r) + size);
-        // Past 2 r the point is outside with room to spare as long as err ≤ r / 8
-        // (d² − r² ≥ ¾ d² against a rounding of at most 3/16 d² + 8 ε (d² + r²)).
-        let tol = if err.is_finite() && r2.is_finite() && err <= r / 8.0 {
-            6.0 * r * err + 40.0 * f64::EPSILON * r2
+        let trusted = err.is_finite() && r2.is_finite() && err <= r / (1u64 << 20) as f64;
+        Sphere {
+            c,
+            r2: if trusted { r2 } else { f64::NAN },
+        }
+    }
+
+    /// Some(true) when `q` is strictly inside, Some(false) when it is outside or on the
+    /// sphere, None when the filter cannot tell.
+    #[inline(always)]
+    fn decide(&self, q: &[f64; 3]) -> Option<bool> {
+        let d = [q[0] - self.c[0], q[1] - self.c[1], q[2] - self.c[2]];
+        let diff = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] - self.r2;
+        let band = BAND * self.r2;
+        if diff > band {
+            Some(false)
+        } else if diff < -band {
+            Some(true)
         } else {
-            f64::INFINITY
-        };
-        Sphere { c, r2, tol }
+            None
+        }
     }
 }
 
 /// One tetrahedron: its nodes (positively oriented), the tetrahedra across the faces opposite
-/// them, its circumsphere (the float filter of [`Builder::conflict`]) and its mark, together
-/// so that testing a neighbour reads one place in memory.
+/// them and its circumsphere (the float filter of [`Builder::conflict`]), in one 64-byte
+/// cache line, so that testing a neighbour reads one line of memory.
 #[derive(Clone, Copy)]
+#[repr(C, align(64))]
 struct Tet {
     v: [u32; 4],
+    /// Across the face opposite `v[i]`: [`link`] of the neighbour and the index of that face
+    /// in it, or [`NONE`].
     n: [u32; 4],
     sphere: Sphere,
-    /// `2 epoch`: in this insertion's cavity; `2 epoch + 1`: tested, not in it; [`DEAD`].
-    mark: u32,
 }
 
-/// [`Tet::mark`] of a tetrahedron that was removed.
+/// [`Builder::marks`] of a tetrahedron that was removed.
 const DEAD: u32 = u32::MAX;
+
+/// A neighbour link: tetrahedron `t` and the index `j` of the shared face in it (opposite
+/// its node `j`), so that crossing a face back needs no search.
+#[inline(always)]
+fn link(t: u32, j: usize) -> u32 {
+    t << 2 | j as u32
+}
 
 struct Builder {
     p: Vec<[f64; 3]>,
     tets: Vec<Tet>,
+    /// Per tetrahedron: `2 epoch`: in this insertion's cavity; `2 epoch + 1`: tested, not in
+    /// it; [`DEAD`] (apart from the records: 4 bytes a tetrahedron stay in cache better).
+    marks: Vec<u32>,
     free: Vec<u32>,
     epoch: u32,
     last: u32,
@@ -308,21 +339,59 @@ struct Builder {
     boundary: Vec<(u32, u8, u32, u8)>,
     verts: Vec<[u32; 4]>,
     faces: FaceTable,
+    /// The output's numbering of the tetrahedra (scratch of the last pass).
+    index: Vec<u32>,
 }
 
 impl Builder {
+    fn new() -> Self {
+        Builder {
+            p: Vec::new(),
+            tets: Vec::new(),
+            marks: Vec::new(),
+            free: Vec::new(),
+            epoch: 0,
+            last: 0,
+            rng: Rng(0),
+            stack: Vec::new(),
+            cavity: Vec::new(),
+            boundary: Vec::new(),
+            verts: Vec::new(),
+            faces: FaceTable::new(),
+            index: Vec::new(),
+        }
+    }
+
+    /// Empties the builder for a new cloud, keeping its memory; room for `tets` tetrahedra.
+    fn reset(&mut self, tets: usize) {
+        self.p.clear();
+        self.tets.clear();
+        self.tets.reserve(tets);
+        self.marks.clear();
+        self.marks.reserve(tets);
+        self.free.clear();
+        self.epoch = 0;
+        self.last = 0;
+        self.rng = Rng(0x0ddba11);
+    }
+
     fn alloc(&mut self, v: [u32; 4]) -> u32 {
         let tet = Tet {
             v,
             n: [NONE; 4],
             sphere: Sphere::of(&self.p, v),
-            mark: 0,
         };
         if let Some(t) = self.free.pop() {
             self.tets[t as usize] = tet;
+            self.marks[t as usize] = 0;
             t
         } else {
             self.tets.push(tet);
+            self.marks.push(0);
+            assert!(
+                self.tets.len() < 1 << 30,
+                "too many tetrahedra for 30-bit links"
+            );
             (self.tets.len() - 1) as u32
         }
     }
@@ -330,26 +399,24 @@ impl Builder {
     /// Whether `q` lies strictly inside the circumsphere of tetrahedron `t`: the cached sphere
     /// decides when `q` is clearly in or out, the exact predicate otherwise.
     fn conflict(&self, t: u32, q: &[f64; 3]) -> bool {
-        let s = &self.tets[t as usize].sphere;
-        let d = [q[0] - s.c[0], q[1] - s.c[1], q[2] - s.c[2]];
-        let d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-        let diff = d2 - s.r2;
-        if s.tol.is_finite() {
-            if d2 > 4.0 * s.r2 || diff > s.tol {
-                return false;
-            }
-            if diff < -s.tol {
-                return true;
-            }
-        }
-        in_sphere(&self.p, self.tets[t as usize].v, q) > 0.0
+        let tet = &self.tets[t as usize];
+        tet.sphere
+            .decide(q)
+            .unwrap_or_else(|| in_sphere(&self.p, tet.v, q) > 0.0)
     }
 
-    /// The tetrahedron containing point `q` (closed), by a visibility walk from the last one
-    /// (its faces tried from a random one, so that the walk cannot cycle).
-    fn locate(&mut self, q: u32) -> u32 {
+    /// A tetrahedron of `q`'s cavity, or `None` when `q` coincides with a node: a visibility
+    /// walk from the last new tetrahedron (its faces tried from a random one, so that the walk
+    /// cannot cycle) that stops at the first tetrahedron whose sphere holds `q`. The cavity is
+    /// connected, so any of its tetrahedra starts its search; the tetrahedron that contains
+    /// `q` (closed) holds it strictly unless `q` is one of its nodes.
+    fn locate(&mut self, q: u32) -> Option<u32> {
         let mut t = self.last;
+        let qp = self.p[q as usize];
         'walk: loop {
+            if self.conflict(t, &qp) {
+                return Some(t);
+            }
             let first = (self.rng.next() & 3) as usize;
             let tet = self.tets[t as usize];
             for k in 0..4 {
@@ -357,22 +424,21 @@ impl Builder {
                 let mut v = tet.v;
                 v[i] = q;
                 if orient(&self.p, v) < 0.0 {
-                    t = tet.n[i];
-                    debug_assert_ne!(t, NONE, "the point left the enclosing tetrahedron");
+                    debug_assert_ne!(tet.n[i], NONE, "the point left the enclosing tetrahedron");
+                    t = tet.n[i] >> 2;
                     continue 'walk;
                 }
             }
-            return t;
+            return None;
         }
     }
 
     /// Inserts point `q` (Bowyer–Watson); false if it coincides with a node.
     fn insert(&mut self, q: u32) -> bool {
-        let start = self.locate(q);
-        let qp = self.p[q as usize];
-        if !self.conflict(start, &qp) {
+        let Some(start) = self.locate(q) else {
             return false;
-        }
+        };
+        let qp = self.p[q as usize];
         // The cavity: the tetrahedra whose circumsphere holds q strictly, connected to start.
         self.epoch += 1;
         let (inside, outside) = (2 * self.epoch, 2 * self.epoch + 1);
@@ -380,30 +446,29 @@ impl Builder {
         self.boundary.clear();
         self.stack.clear();
         self.stack.push(start);
-        self.tets[start as usize].mark = inside;
+        self.marks[start as usize] = inside;
         while let Some(c) = self.stack.pop() {
             self.cavity.push(c);
             let nbrs = self.tets[c as usize].n;
-            for (i, &n) in nbrs.iter().enumerate() {
-                if n == NONE {
+            for (i, &l) in nbrs.iter().enumerate() {
+                if l == NONE {
                     self.boundary.push((c, i as u8, NONE, 0));
                     continue;
                 }
-                let m = self.tets[n as usize].mark;
+                let n = l >> 2;
+                let m = self.marks[n as usize];
                 if m == inside {
                     continue;
                 }
                 if m != outside {
                     if self.conflict(n, &qp) {
-                        self.tets[n as usize].mark = inside;
+                        self.marks[n as usize] = inside;
                         self.stack.push(n);
                         continue;
                     }
-                    self.tets[n as usize].mark = outside;
+                    self.marks[n as usize] = outside;
                 }
-                let j = self.tets[n as usize].n.iter().position(|&x| x == c);
-                let j = j.expect("adjacency is symmetric") as u8;
-                self.boundary.push((c, i as u8, n, j));
+                self.boundary.push((c, i as u8, n, (l & 3) as u8));
             }
         }
         // The new tetrahedra: each boundary face joined to q, q taking the place of the node
@@ -416,7 +481,7 @@ impl Builder {
             verts.push(v);
         }
         for &c in &self.cavity {
-            self.tets[c as usize].mark = DEAD;
+            self.marks[c as usize] = DEAD;
             self.free.push(c);
         }
         self.faces.reserve(3 * self.boundary.len() / 2);
@@ -424,9 +489,9 @@ impl Builder {
             let (_, i, n, j) = self.boundary[b];
             let i = i as usize;
             let t = self.alloc(v);
-            self.tets[t as usize].n[i] = n;
             if n != NONE {
-                self.tets[n as usize].n[j as usize] = t;
+                self.tets[t as usize].n[i] = link(n, j as usize);
+                self.tets[n as usize].n[j as usize] = link(t, i);
             }
             // The three faces through q: the one opposite v[k] holds q and the boundary
             // face's edge without v[k]; the new tetrahedron across it shares that edge.
@@ -441,8 +506,8 @@ impl Builder {
                 };
                 let key = (a.min(b) as u64) << 32 | a.max(b) as u64;
                 if let Some((t2, k2)) = self.faces.pair(key, (t, k as u8)) {
-                    self.tets[t as usize].n[k] = t2;
-                    self.tets[t2 as usize].n[k2 as usize] = t;
+                    self.tets[t as usize].n[k] = link(t2, k2 as usize);
+                    self.tets[t2 as usize].n[k2 as usize] = link(t, k);
                 }
             }
             self.last = t;
@@ -454,104 +519,221 @@ impl Builder {
 }
 
 /// The Delaunay tetrahedralisation of `points` (see the module's notes on ties and on the
-/// enclosing tetrahedron). Points that are not finite are a caller's bug: they panic.
+/// enclosing tetrahedron), with fresh working memory; [`Tetrahedraliser`] keeps it between
+/// calls. Points that are not finite are a caller's bug: they panic.
 pub fn tetrahedralise(points: &[[f64; 3]]) -> Tetrahedralisation {
-    let n = points.len();
-    assert!(
-        n < (u32::MAX - 8) as usize,
-        "too many points for u32 indices"
-    );
-    assert!(
-        points.iter().flatten().all(|x| x.is_finite()),
-        "a point is not finite"
-    );
-    if n < 4 {
-        return Tetrahedralisation::default();
+    Tetrahedraliser::default().tetrahedralise(points)
+}
+
+/// The tetrahedralisation's working memory (about 90 bytes per point), kept between calls: a
+/// stepper that meshes every step reuses it instead of asking the system for fresh pages each
+/// time (at 10⁵ points the page faults of a fresh build were a seventh of its time).
+#[derive(Default)]
+pub struct Tetrahedraliser {
+    scratch: Option<Builder>,
+}
+
+/// A clone starts with fresh working memory: the scratch holds nothing a clone needs.
+impl Clone for Tetrahedraliser {
+    fn clone(&self) -> Self {
+        Self::default()
     }
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for p in points {
-        for k in 0..3 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
+}
+
+impl std::fmt::Debug for Tetrahedraliser {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let room = self.scratch.as_ref().map_or(0, |b| b.tets.capacity());
+        write!(f, "Tetrahedraliser {{ room for {room} tetrahedra }}")
+    }
+}
+
+impl Tetrahedraliser {
+    /// The Delaunay tetrahedralisation of `points`, as [`tetrahedralise`].
+    pub fn tetrahedralise(&mut self, points: &[[f64; 3]]) -> Tetrahedralisation {
+        let n = points.len();
+        assert!(
+            n < MAX_POINTS,
+            "too many points: {n} (the neighbour links hold 2³⁰ tetrahedra, about 7 per point)"
+        );
+        assert!(
+            points.iter().flatten().all(|x| x.is_finite()),
+            "a point is not finite"
+        );
+        if n < 4 {
+            return Tetrahedralisation::default();
         }
-    }
-    let diag = ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2) + (hi[2] - lo[2]).powi(2))
-        .sqrt()
-        .max(f64::MIN_POSITIVE.sqrt());
-    let extent = (0..3)
-        .map(|k| hi[k] - lo[k])
-        .fold(0.0, f64::max)
-        .max(diag * 1e-12);
-    let centre = [
-        0.5 * (lo[0] + hi[0]),
-        0.5 * (lo[1] + hi[1]),
-        0.5 * (lo[2] + hi[2]),
-    ];
-    // A regular tetrahedron's corners (±1, ±1, ±1 with an even number of minus signs).
-    let r = FAR * diag;
-    let corner = |s: [f64; 3]| {
-        [
-            centre[0] + s[0] * r,
-            centre[1] + s[1] * r,
-            centre[2] + s[2] * r,
-        ]
-    };
-    // The builder numbers the points in insertion order, so that points near one another
-    // along the curve are near one another in memory too; `order` maps back.
-    let order = insertion_order(points, lo, extent);
-    let mut p: Vec<[f64; 3]> = order.iter().map(|&i| points[i as usize]).collect();
-    p.push(corner([1.0, 1.0, 1.0]));
-    p.push(corner([1.0, -1.0, -1.0]));
-    p.push(corner([-1.0, 1.0, -1.0]));
-    p.push(corner([-1.0, -1.0, 1.0]));
-    let s = n as u32;
-    let mut first = [s, s + 1, s + 2, s + 3];
-    if orient(&p, first) < 0.0 {
-        first.swap(0, 1);
-    }
-    let mut b = Builder {
-        p,
-        tets: Vec::with_capacity(7 * n),
-        free: Vec::new(),
-        epoch: 0,
-        last: 0,
-        rng: Rng(0x0ddba11),
-        stack: Vec::new(),
-        cavity: Vec::new(),
-        boundary: Vec::new(),
-        verts: Vec::new(),
-        faces: FaceTable::new(),
-    };
-    b.alloc(first);
-    let mut duplicates = Vec::new();
-    for q in 0..s {
-        if !b.insert(q) {
-            duplicates.push(order[q as usize]);
+        let mut lo = [f64::INFINITY; 3];
+        let mut hi = [f64::NEG_INFINITY; 3];
+        for p in points {
+            for k in 0..3 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
         }
-    }
-    // Keep the tetrahedra of the points alone; renumber them and their neighbours.
-    let mut index = vec![NONE; b.tets.len()];
-    let mut out = Tetrahedralisation {
-        duplicates,
-        ..Default::default()
-    };
-    for t in 0..b.tets.len() {
-        if b.tets[t].mark != DEAD && b.tets[t].v.iter().all(|&v| v < s) {
-            index[t] = out.tets.len() as u32;
-            out.tets.push(b.tets[t].v.map(|v| order[v as usize]));
+        let diag = ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2) + (hi[2] - lo[2]).powi(2))
+            .sqrt()
+            .max(f64::MIN_POSITIVE.sqrt());
+        let extent = (0..3)
+            .map(|k| hi[k] - lo[k])
+            .fold(0.0, f64::max)
+            .max(diag * 1e-12);
+        let centre = [
+            0.5 * (lo[0] + hi[0]),
+            0.5 * (lo[1] + hi[1]),
+            0.5 * (lo[2] + hi[2]),
+        ];
+        // A regular tetrahedron's corners (±1, ±1, ±1 with an even number of minus signs).
+        let r = FAR * diag;
+        let corner = |s: [f64; 3]| {
+            [
+                centre[0] + s[0] * r,
+                centre[1] + s[1] * r,
+                centre[2] + s[2] * r,
+            ]
+        };
+        // The builder numbers the points in insertion order, so that points near one another
+        // along the curve are near one another in memory too; `order` maps back.
+        let order = insertion_order(points, lo, extent);
+        let mut b = self.scratch.take().unwrap_or_else(Builder::new);
+        b.reset(7 * n);
+        b.p.extend(order.iter().map(|&i| points[i as usize]));
+        b.p.push(corner([1.0, 1.0, 1.0]));
+        b.p.push(corner([1.0, -1.0, -1.0]));
+        b.p.push(corner([-1.0, 1.0, -1.0]));
+        b.p.push(corner([-1.0, -1.0, 1.0]));
+        let s = n as u32;
+        let mut first = [s, s + 1, s + 2, s + 3];
+        if orient(&b.p, first) < 0.0 {
+            first.swap(0, 1);
         }
-    }
-    for t in 0..b.tets.len() {
-        if index[t] != NONE {
-            out.neighbours.push(
-                b.tets[t]
-                    .n
-                    .map(|m| if m == NONE { NONE } else { index[m as usize] }),
-            );
+        b.alloc(first);
+        let mut duplicates = Vec::new();
+        for q in 0..s {
+            if !b.insert(q) {
+                duplicates.push(order[q as usize]);
+            }
         }
+        // Keep the tetrahedra of the points alone; renumber them and their neighbours.
+        let mut index = std::mem::take(&mut b.index);
+        index.clear();
+        index.resize(b.tets.len(), NONE);
+        let mut out = Tetrahedralisation {
+            duplicates,
+            ..Default::default()
+        };
+        out.tets.reserve(b.tets.len() - b.free.len());
+        for t in 0..b.tets.len() {
+            if b.marks[t] != DEAD && b.tets[t].v.iter().all(|&v| v < s) {
+                index[t] = out.tets.len() as u32;
+                out.tets.push(b.tets[t].v.map(|v| order[v as usize]));
+            }
+        }
+        out.neighbours.reserve(out.tets.len());
+        for t in 0..b.tets.len() {
+            if index[t] != NONE {
+                out.neighbours.push(b.tets[t].n.map(|m| {
+                    if m == NONE {
+                        NONE
+                    } else {
+                        index[(m >> 2) as usize]
+                    }
+                }));
+            }
+        }
+        b.index = index;
+        self.scratch = Some(b);
+        out
     }
-    out
+}
+
+#[cfg(test)]
+mod filter_tests {
+    use super::{Rng, Sphere, in_sphere};
+
+    fn uniform(rng: &mut Rng) -> f64 {
+        (rng.next() >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// The cached sphere's filter never contradicts the exact predicate: on regular, flat and
+    /// needle tetrahedra far from and near the origin, for points on, just inside and just
+    /// outside the sphere (relative offsets from 10⁻¹⁶ to 10⁻²) and far away.
+    #[test]
+    fn the_sphere_filter_agrees_with_the_exact_predicate() {
+        let mut rng = Rng(42);
+        let (mut decided, mut undecided) = (0usize, 0usize);
+        // Points clearly off the sphere (|t| ≥ 10⁻⁴) of tetrahedra that are not flat: the
+        // filter must decide nearly all of them, or it saves nothing.
+        let (mut clear, mut clear_decided) = (0usize, 0usize);
+        for case in 0..3000 {
+            let offset = [30.0, 0.0, 1e3][case % 3];
+            let flat = [1.0, 1e-6, 1e-12][(case / 3) % 3];
+            let mut p: Vec<[f64; 3]> = (0..4)
+                .map(|_| {
+                    [
+                        offset + uniform(&mut rng),
+                        offset + uniform(&mut rng),
+                        offset + flat * uniform(&mut rng),
+                    ]
+                })
+                .collect();
+            let mut v = [0, 1, 2, 3];
+            let o = super::orient(&p, v);
+            if o == 0.0 {
+                continue;
+            }
+            if o < 0.0 {
+                v.swap(0, 1);
+            }
+            let s = Sphere::of(&p, v);
+            let (c, r) = super::circumsphere(&p[0], &p[1], &p[2], &p[3]);
+            for k in 0..40 {
+                // A direction, and a distance from the centre of r (1 + t).
+                let dir = [
+                    uniform(&mut rng) - 0.5,
+                    uniform(&mut rng) - 0.5,
+                    uniform(&mut rng) - 0.5,
+                ];
+                let norm = super::dot(dir, dir).sqrt();
+                let t = match k % 4 {
+                    0 => 0.0,
+                    1 => 10f64.powf(-16.0 + 14.0 * uniform(&mut rng)),
+                    2 => -10f64.powf(-16.0 + 14.0 * uniform(&mut rng)),
+                    _ => 3.0 * uniform(&mut rng) - 1.0,
+                };
+                let q = [
+                    c[0] + dir[0] / norm * r * (1.0 + t),
+                    c[1] + dir[1] / norm * r * (1.0 + t),
+                    c[2] + dir[2] / norm * r * (1.0 + t),
+                ];
+                if !q.iter().all(|x| x.is_finite()) {
+                    continue;
+                }
+                p.push(q);
+                let exact = in_sphere(&p, v, &q) > 0.0;
+                p.pop();
+                if flat == 1.0 && t.abs() >= 1e-4 {
+                    clear += 1;
+                    clear_decided += s.decide(&q).is_some() as usize;
+                }
+                match s.decide(&q) {
+                    Some(inside) => {
+                        assert_eq!(inside, exact, "case {case}, t = {t:e}, flat = {flat:e}");
+                        decided += 1;
+                    }
+                    None => undecided += 1,
+                }
+            }
+        }
+        println!(
+            "filter: {decided} decided, {undecided} left to the exact predicate; \
+             {clear_decided} of {clear} points clearly off the sphere of a non-flat \
+             tetrahedron decided"
+        );
+        assert!(
+            clear_decided as f64 >= 0.99 * clear as f64,
+            "{clear_decided} of {clear}"
+        );
+    }
 }
 
 #[cfg(test)]

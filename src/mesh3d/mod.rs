@@ -6,7 +6,7 @@ pub mod alpha;
 pub mod delaunay;
 
 pub use alpha::{AlphaShape, ContactLine, SLIVER_QUALITY, alpha_shape, alpha_shape_with, quality};
-pub use delaunay::{NONE, Tetrahedralisation, circumsphere, tetrahedralise};
+pub use delaunay::{NONE, Tetrahedralisation, Tetrahedraliser, circumsphere, tetrahedralise};
 
 /// A xorshift sequence in [0, 1) from a non-zero seed: the test and benchmark clouds'.
 fn xorshift(seed: u64) -> impl FnMut() -> f64 {

@@ -14,7 +14,7 @@ pub use pressure::{
 };
 
 use crate::fem::tet::P1Tet;
-use crate::mesh3d::{AlphaShape, Tetrahedralisation};
+use crate::mesh3d::{AlphaShape, Tetrahedralisation, Tetrahedraliser};
 use nalgebra::Vector3;
 
 /// A plane wall of a box-shaped tank: the solid lies on the side of `at_m` away from `inward`.
@@ -85,6 +85,8 @@ pub struct Flow3 {
     /// Per node: on the last step's free surface (empty before the first mesh), for the
     /// α-shape's contact-line rule.
     pub was_free: Vec<bool>,
+    /// The tetrahedralisation's working memory, kept from step to step.
+    pub mesher: Tetrahedraliser,
 }
 
 /// The stages of [`Flow3::step`], in order.
@@ -149,7 +151,10 @@ impl Flow3 {
             stage_ms[k] = clock.elapsed().as_secs_f64() * 1e3;
             clock = std::time::Instant::now();
         };
-        let (mesh, shape, elements) = self.remesh(&mut lap)?;
+        let mut mesher = std::mem::take(&mut self.mesher);
+        let remeshed = self.remesh(&mut mesher, &mut lap);
+        self.mesher = mesher;
+        let (mesh, shape, elements) = remeshed?;
         let volume_m3 = elements.iter().map(|e| e.volume).sum();
         // Every node of the mesh, walls included, predicts from the momentum equation; the
         // wall's u·n = 0 enters through the pressure's natural boundary condition, and the
@@ -218,13 +223,14 @@ impl Flow3 {
     /// fluid, then numbered as the whole cloud.
     fn remesh(
         &self,
+        mesher: &mut Tetrahedraliser,
         lap: &mut impl FnMut(usize),
     ) -> Result<(Tetrahedralisation, AlphaShape, Vec<P1Tet>), PressureError> {
         use crate::mesh3d::{ContactLine, alpha_shape_with};
         let active = self.near_water();
         let sub_x: Vec<[f64; 3]> = active.iter().map(|&i| self.x[i as usize]).collect();
         let sub_walls: Vec<u16> = active.iter().map(|&i| self.walls[i as usize]).collect();
-        let mut mesh = crate::mesh3d::tetrahedralise(&sub_x);
+        let mut mesh = mesher.tetrahedralise(&sub_x);
         lap(0);
         // The contact-line rule needs the previous free surface; the first mesh takes it from
         // an α-shape without the rule.
@@ -248,7 +254,10 @@ impl Flow3 {
     /// Meshes the current positions without stepping (the first frame of a run): sets
     /// `in_mesh` and `surface` and returns the kept volume, m³.
     pub fn mesh_now(&mut self) -> Result<f64, PressureError> {
-        let (_, shape, elements) = self.remesh(&mut |_| {})?;
+        let mut mesher = std::mem::take(&mut self.mesher);
+        let remeshed = self.remesh(&mut mesher, &mut |_| {});
+        self.mesher = mesher;
+        let (_, shape, elements) = remeshed?;
         self.in_mesh = shape.in_mesh;
         self.was_free = shape.free_surface;
         self.surface = shape.surface;
@@ -471,6 +480,7 @@ pub fn still_tank(nx: usize, ny: usize, nz: usize, h: f64, jitter: f64) -> Flow3
         in_mesh: vec![false; n],
         surface: Vec::new(),
         was_free: Vec::new(),
+        mesher: Tetrahedraliser::default(),
     }
 }
 

@@ -186,5 +186,6 @@ pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
         in_mesh: vec![false; n],
         surface: Vec::new(),
         was_free: Vec::new(),
+        mesher: Default::default(),
     })
 }
