@@ -3,9 +3,10 @@
 //!
 //! Rules, as the 2D mesher's (`mesh`): a tetrahedron is a candidate when its circumradius is
 //! below α h. A candidate whose four nodes are wall nodes is kept only if one of them is wetted
-//! (shares a candidate with a fluid node, PFEM3D's rule): that keeps the water in the flume's
-//! corners, where the Delaunay split of a corner cube makes all-wall tetrahedra, and drops the
-//! walls' own tetrahedra elsewhere.
+//! (PFEM3D's rule, here within two candidates of a fluid node rather than one: a lattice's cube
+//! split into five can leave a corner of three walls with no node in a candidate with a fluid
+//! node): that keeps the water in the flume's corners, where the Delaunay split of a corner
+//! cube makes all-wall tetrahedra, and drops the walls' own tetrahedra elsewhere.
 //!
 //! Slivers: four nearly co-circular nodes make a tetrahedron of small circumradius and almost
 //! no volume, which the α test keeps. When the four lie on one plane to round-off, as on a face
@@ -89,11 +90,11 @@ pub fn alpha_shape(
 /// highest fluid node (a wedge above the water line on a side wall: it would set p = 0 on wall
 /// nodes above the water and add weight to the contact nodes that no pressure carries); a
 /// wetted candidate of wall nodes alone is air when its centroid lies above the highest fluid
-/// node that wets one of its nodes (the corner between two walls above the water line). The 2D
-/// rule's second half, a fluid node that does not stand over its wall face (the air wedge ahead
-/// of a front on the bed), is left out: in a corner of the water the lattice's diagonals give
-/// water tetrahedra whose fluid node projects outside their face on one wall, and dropping
-/// them set p = 0 on wall nodes under the water line.
+/// node within two candidates of its nodes (the corner between two walls above the water
+/// line). The 2D rule's second half, a fluid node that does not stand over its wall face (the
+/// air wedge ahead of a front on the bed), is left out: in a corner of the water the lattice's
+/// diagonals give water tetrahedra whose fluid node projects outside their face on one wall,
+/// and dropping them set p = 0 on wall nodes under the water line.
 pub fn alpha_shape_with(
     points: &[[f64; 3]],
     walls: &[u16],
@@ -137,6 +138,24 @@ pub fn alpha_shape_with(
             }
         }
     }
+    // The same over two rings: the highest fluid node within two candidates of a node, −∞
+    // when there is none. A tetrahedron of wall nodes alone is wetted, and lies below the water
+    // line, by this level, not by its nodes' own: where a lattice's cube is split into five,
+    // the corner tetrahedron of three walls' nodes can have no node in a candidate with a fluid
+    // node (at a corner of three walls), or only with fluid nodes below its centroid (in
+    // mid-depth on an edge of two walls), and was dropped from the water.
+    let mut line_level = wet_level.clone();
+    for (t, v) in mesh.tets.iter().enumerate() {
+        if candidate[t] {
+            let level = v
+                .iter()
+                .map(|&i| wet_level[i as usize])
+                .fold(f64::NEG_INFINITY, f64::max);
+            for &i in v {
+                line_level[i as usize] = line_level[i as usize].max(level);
+            }
+        }
+    }
     let mut keep: Vec<bool> = (0..mesh.tets.len())
         .map(|t| {
             let v = &mesh.tets[t];
@@ -146,15 +165,15 @@ pub fn alpha_shape_with(
             if !v.iter().all(|&i| is_wall(i)) {
                 return true;
             }
-            // All wall nodes: kept when wetted, and with the contact-line rule only when its
-            // centroid is not above the water level of its wetted nodes (a corner of the walls
-            // above the water line is air).
-            let level = v
+            // All wall nodes: kept when wetted (a fluid node within two candidates of a node),
+            // and with the contact-line rule only when its centroid is not above the water
+            // line near its nodes (a corner of the walls above the water line is air).
+            let line = v
                 .iter()
-                .map(|&i| wet_level[i as usize])
+                .map(|&i| line_level[i as usize])
                 .fold(f64::NEG_INFINITY, f64::max);
             let centroid = v.iter().map(|&i| points[i as usize][up]).sum::<f64>() / 4.0;
-            level > f64::NEG_INFINITY && (contact.is_none() || centroid <= level)
+            line > f64::NEG_INFINITY && (contact.is_none() || centroid <= line)
         })
         .collect();
     let sliver: Vec<bool> = (0..mesh.tets.len())

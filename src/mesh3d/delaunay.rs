@@ -168,9 +168,9 @@ impl Rng {
 /// The insertion order: a biased randomised insertion order (Amenta, Choi & Rote 2003) whose
 /// rounds (the last half of the points, the quarter before, …) are each sorted along a Hilbert
 /// curve of the bounding box.
-fn insertion_order(points: &[[f64; 3]], lo: [f64; 3], extent: f64) -> Vec<u32> {
+fn insertion_order(points: &[[f64; 3]], lo: [f64; 3], extent: f64, seed: u64) -> Vec<u32> {
     let n = points.len();
-    let mut rng = Rng(0x05ee_d0f5_a1ab);
+    let mut rng = Rng(0x05ee_d0f5_a1ab ^ seed.wrapping_mul(0x9e37_79b9_7f4a_7c15));
     let mut order: Vec<u32> = (0..n as u32).collect();
     for i in (1..n).rev() {
         let j = (rng.next() % (i as u64 + 1)) as usize;
@@ -531,12 +531,15 @@ pub fn tetrahedralise(points: &[[f64; 3]]) -> Tetrahedralisation {
 #[derive(Default)]
 pub struct Tetrahedraliser {
     scratch: Option<Builder>,
+    /// Mixed into the seed of the insertion order's shuffle (0: the default order).
+    seed: u64,
 }
 
-/// A clone starts with fresh working memory: the scratch holds nothing a clone needs.
+/// A clone starts with fresh working memory (the scratch holds nothing a clone needs) and the
+/// same insertion order.
 impl Clone for Tetrahedraliser {
     fn clone(&self) -> Self {
-        Self::default()
+        Self::with_seed(self.seed)
     }
 }
 
@@ -548,6 +551,16 @@ impl std::fmt::Debug for Tetrahedraliser {
 }
 
 impl Tetrahedraliser {
+    /// A mesher whose insertion order is shuffled with `seed`: the same tetrahedralisation
+    /// where it is unique, another of the valid ones where points are co-spherical (for tests
+    /// of what follows the mesher).
+    pub fn with_seed(seed: u64) -> Self {
+        Self {
+            scratch: None,
+            seed,
+        }
+    }
+
     /// The Delaunay tetrahedralisation of `points`, as [`tetrahedralise`].
     pub fn tetrahedralise(&mut self, points: &[[f64; 3]]) -> Tetrahedralisation {
         let n = points.len();
@@ -593,7 +606,7 @@ impl Tetrahedraliser {
         };
         // The builder numbers the points in insertion order, so that points near one another
         // along the curve are near one another in memory too; `order` maps back.
-        let order = insertion_order(points, lo, extent);
+        let order = insertion_order(points, lo, extent, self.seed);
         let mut b = self.scratch.take().unwrap_or_else(Builder::new);
         b.reset(7 * n);
         b.p.extend(order.iter().map(|&i| points[i as usize]));
