@@ -90,3 +90,38 @@ fn a_2d_only_setting_in_a_3d_case_is_refused_with_its_field() {
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(stderr.contains("solver.midpoint_move"), "{stderr}");
 }
+
+/// Elevation gauges in a 3D case: `gauges.csv` with one column per gauge, read on the tank's
+/// centre line, and η = 0 in still water; velocity probes are refused with their field.
+#[test]
+fn a_3d_case_records_its_elevation_gauges() {
+    let dir = common::out_dir("three_d_gauges");
+    let (code, stderr) = run(
+        &dir,
+        &[
+            "--until",
+            "0.1",
+            "--set",
+            "output.gauges_x_m=[0.05, 0.15, 0.25]",
+        ],
+    );
+    assert_eq!(code, Some(0), "{stderr}");
+    let csv = std::fs::read_to_string(dir.join("gauges.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(lines.next(), Some("t_s,eta_0.050,eta_0.150,eta_0.250"));
+    let mut rows = 0;
+    for line in lines {
+        rows += 1;
+        for cell in line.split(',').skip(1) {
+            let eta: f64 = cell
+                .parse()
+                .unwrap_or_else(|_| panic!("a dry gauge: {line}"));
+            assert!(eta.abs() < 1e-9, "{line}");
+        }
+    }
+    assert_eq!(rows, 3, "{csv}");
+    let dir = common::out_dir("three_d_probes");
+    let (code, stderr) = run(&dir, &["--set", "output.probes_m=[[0.1, 0.05]]"]);
+    assert_eq!(code, Some(1), "{stderr}");
+    assert!(stderr.contains("output.probes_m"), "{stderr}");
+}

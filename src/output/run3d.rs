@@ -8,6 +8,7 @@ use super::colormap::ColorScale;
 use super::rrd::SIM_TIMELINE;
 use super::run::{Progress, RunError, RunOptions, io_err};
 use super::summary::{RunFigures, median};
+use super::timeseries::{GaugeWriter, gauge_columns};
 use crate::case::Case;
 use crate::solver3d::{Flow3, Integrals3, STAGES_3D, setup};
 use rerun::{RecordingStream, RecordingStreamBuilder};
@@ -86,6 +87,21 @@ const CSV_HEADER: &str = "t_s,dt_s,steps,volume_m3,volume_m2,volume_ratio,fluid_
 isolated_particles,max_speed_m_s,kinetic_energy_j,front_x_m,left_wall_height_m,tetrahedra,\
 slivers_kept,guarded,moves_m3,remeshes_m3";
 
+/// η at each of the case's elevation gauges (`output.gauges_x_m`), m above the still-water
+/// level there, on the tank's centre line z = width / 2: the highest crossing of the free
+/// surface, `None` where the line meets no water.
+pub fn gauge_values(case: &Case, flow: &Flow3) -> Vec<Option<f64>> {
+    let z = 0.5 * case.flume.width_m.unwrap_or(0.0);
+    case.output
+        .gauges_x_m
+        .iter()
+        .map(|&x| {
+            let level = case.still_level_at(x).unwrap_or(0.0);
+            flow.surface_heights_at(x, z).first().map(|y| y - level)
+        })
+        .collect()
+}
+
 /// Runs the 3D `case` to `case.time.end_s` (Δt: the CFL policy's bound on the fastest fluid
 /// particle, `time.dt_max_s` and the surface-wave bound, as in 2D, cut to land on every output
 /// time).
@@ -107,6 +123,14 @@ pub fn run3d(case: &Case, opts: &RunOptions) -> Result<Run3Outcome, RunError> {
         None
     };
 
+    // Elevation gauges on the tank's centre line (the case's probes are refused in 3D).
+    let gauge_columns = gauge_columns(&case.output.gauges_x_m, &[]);
+    let gauge_path = opts.out_dir.join("gauges.csv");
+    let mut gauges = if gauge_columns.is_empty() {
+        None
+    } else {
+        Some(GaugeWriter::create(&gauge_path, &gauge_columns).map_err(io_err(&gauge_path))?)
+    };
     let flow_width = case.flume.width_m.unwrap_or(1.0);
     let end_s = case.time.end_s;
     let interval = case.output.interval_s;
@@ -142,8 +166,13 @@ pub fn run3d(case: &Case, opts: &RunOptions) -> Result<Run3Outcome, RunError> {
         write_row(&mut csv, &row, initial_volume, flow_width)
             .and_then(|()| csv.flush())
             .map_err(io_err(&csv_path))?;
+        let eta = gauge_values(case, &flow);
+        if let Some(g) = gauges.as_mut() {
+            g.row(t, &eta).map_err(io_err(&gauge_path))?;
+        }
         if let Some(r) = rrd.as_mut() {
             r.log(&flow, &row, initial_volume).map_err(rrd_err)?;
+            r.log_gauges(&gauge_columns, &eta).map_err(rrd_err)?;
         }
         rows.push(row);
         row.guarded = 0;
@@ -467,6 +496,18 @@ impl Recorder3 {
         ] {
             if v.is_finite() {
                 self.rec.log(path, &rerun::Scalars::single(v)).map_err(e)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The gauges' η as scalar plots `gauges/<column>` (nothing for a dry gauge).
+    fn log_gauges(&mut self, columns: &[String], eta: &[Option<f64>]) -> Result<(), String> {
+        for (name, v) in columns.iter().zip(eta) {
+            if let Some(v) = v {
+                self.rec
+                    .log(format!("gauges/{name}"), &rerun::Scalars::single(*v))
+                    .map_err(|e| e.to_string())?;
             }
         }
         Ok(())

@@ -382,6 +382,32 @@ impl Flow3 {
             .fold(0.0, f64::max)
     }
 
+    /// Every crossing of the vertical line through (`x_m`, ·, `z_m`) with the last step's free
+    /// surface (its triangles, walls excluded), heights in m, highest first; empty where the
+    /// line meets no water. A crossing on an edge or a node shared by several triangles is
+    /// counted once; more than one crossing means an overturned face, a jet or a drop above.
+    pub fn surface_heights_at(&self, x_m: f64, z_m: f64) -> Vec<f64> {
+        let mut out = Vec::new();
+        for f in &self.surface {
+            let [a, b, c] = f.map(|i| self.x[i as usize]);
+            // Barycentric coordinates of (x, z) in the triangle's projection on the bed.
+            let det = (b[0] - a[0]) * (c[2] - a[2]) - (c[0] - a[0]) * (b[2] - a[2]);
+            if det == 0.0 {
+                continue; // a vertical triangle: its edges belong to its neighbours
+            }
+            let l1 = ((x_m - a[0]) * (c[2] - a[2]) - (c[0] - a[0]) * (z_m - a[2])) / det;
+            let l2 = ((b[0] - a[0]) * (z_m - a[2]) - (x_m - a[0]) * (b[2] - a[2])) / det;
+            let l0 = 1.0 - l1 - l2;
+            let eps = -1e-12;
+            if l0 >= eps && l1 >= eps && l2 >= eps {
+                out.push(l0 * a[1] + l1 * b[1] + l2 * c[1]);
+            }
+        }
+        out.sort_by(|p, q| q.total_cmp(p));
+        out.dedup_by(|p, q| (*p - *q).abs() < 1e-9 * self.h_m);
+        out
+    }
+
     /// The frame's figures (see [`Integrals3`]); the mesh flags are the last step's.
     pub fn integrals(&self) -> Integrals3 {
         let mut out = Integrals3 {

@@ -57,6 +57,12 @@ pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
     if case.absorber.is_some() {
         return Err(refuse("absorber", "the 3D path has no damping layer yet"));
     }
+    if !case.output.probes_m.is_empty() {
+        return Err(refuse(
+            "output.probes_m",
+            "the 3D path records elevation gauges (output.gauges_x_m) but no velocity probes yet",
+        ));
+    }
     // The 2D solver's optional remedies, off by default: asked for in a 3D case they would be
     // silently ignored, so they are refused.
     let s = &case.solver;

@@ -288,3 +288,32 @@ fn the_case_tank_keeps_its_water_whatever_the_insertion_order() {
         assert_eq!(dry_in_mesh, 0, "seed {seed}");
     }
 }
+
+#[test]
+fn the_gauges_read_the_free_surface_on_a_vertical_line() {
+    // The case tank's top is y = 0.14 m: one crossing wherever the line is over the water,
+    // none beside the tank. Then every node raised by a linear tilt 0.1 x + 0.05 z: the
+    // triangles interpolate a linear surface exactly.
+    let mut flow = case_tank();
+    flow.mesh_now().unwrap();
+    let mut worst = 0.0f64;
+    for i in 0..15 {
+        for k in 0..10 {
+            let (x, z) = (0.003 + 0.0197 * i as f64, 0.004 + 0.0199 * k as f64);
+            let ys = flow.surface_heights_at(x, z);
+            assert_eq!(ys.len(), 1, "({x}, {z}): {ys:?}");
+            worst = worst.max((ys[0] - 0.14).abs());
+        }
+    }
+    assert!(flow.surface_heights_at(0.35, 0.1).is_empty());
+    for p in &mut flow.x {
+        p[1] += 0.1 * p[0] + 0.05 * p[2];
+    }
+    let mut worst_tilted = 0.0f64;
+    for (x, z) in [(0.011, 0.013), (0.15, 0.1), (0.2871, 0.1933), (0.1, 0.18)] {
+        let ys = flow.surface_heights_at(x, z);
+        worst_tilted = worst_tilted.max((ys[0] - (0.14 + 0.1 * x + 0.05 * z)).abs());
+    }
+    println!("gauges: flat top within {worst:.1e} m, tilted within {worst_tilted:.1e} m");
+    assert!(worst < 1e-12 && worst_tilted < 1e-12);
+}
