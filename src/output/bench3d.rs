@@ -189,6 +189,7 @@ pub fn bench_case(case: &Case, steps: u64, json: bool) -> Result<()> {
             "wall_s": wall,
             "median_ms_per_step": timing.step_ms,
             "stage_ms": stages,
+            "median_cg_iterations": timing.iterations,
             "particle_steps_per_s": particle_steps_per_s,
             "real_time_factor": t / wall,
         });
@@ -200,6 +201,9 @@ pub fn bench_case(case: &Case, steps: u64, json: bool) -> Result<()> {
         case.name
     );
     print_stages(&timing, 2);
+    if timing.iterations > 0.0 {
+        println!("median CG iterations: {:.0}", timing.iterations);
+    }
     println!(
         "particle-steps/s: {particle_steps_per_s:.0}   real-time factor: {:.3}",
         t / wall
