@@ -4,6 +4,7 @@
 
 pub mod alpha;
 pub mod delaunay;
+mod order;
 
 pub use alpha::{AlphaShape, ContactLine, SLIVER_QUALITY, alpha_shape, alpha_shape_with, quality};
 pub use delaunay::{NONE, Tetrahedralisation, Tetrahedraliser, circumsphere, tetrahedralise};
