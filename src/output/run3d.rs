@@ -11,6 +11,7 @@ use super::summary::{RunFigures, median};
 use super::timeseries::{GaugeWriter, gauge_columns};
 use crate::case::Case;
 use crate::solver3d::{Flow3, Integrals3, STAGES_3D, setup};
+use crate::waves::paddle::PaddleMotion;
 use rerun::{RecordingStream, RecordingStreamBuilder};
 use serde::Serialize;
 use std::io::Write;
@@ -108,6 +109,13 @@ pub fn gauge_values(case: &Case, flow: &Flow3) -> Vec<Option<f64>> {
 pub fn run3d(case: &Case, opts: &RunOptions) -> Result<Run3Outcome, RunError> {
     std::fs::create_dir_all(&opts.out_dir).map_err(io_err(&opts.out_dir))?;
     let mut flow = setup::from_case(case).map_err(|e| RunError::Setup(e.to_string()))?;
+    // The piston's path (the case was validated, so its motion exists); the solver is told
+    // one step ahead where the face is to be.
+    let paddle = match (case.wavemaker.as_ref(), PaddleMotion::from_case(case)) {
+        (Some(w), Some(Ok(motion))) => Some((w.x_m, motion)),
+        (_, Some(Err(e))) => return Err(RunError::Setup(e.to_string())),
+        _ => None,
+    };
     let csv_path = opts.out_dir.join("timeseries.csv");
     let mut csv =
         std::io::BufWriter::new(std::fs::File::create(&csv_path).map_err(io_err(&csv_path))?);
@@ -204,9 +212,13 @@ pub fn run3d(case: &Case, opts: &RunOptions) -> Result<Run3Outcome, RunError> {
             if dt >= left || left < 1.5 * dt {
                 dt = if dt >= left { left } else { 0.5 * left };
             }
+            let t_next = if dt == left { target } else { t + dt };
+            if let Some((x_rest, motion)) = &paddle {
+                flow.drive_piston(x_rest + motion.displacement_m(t_next));
+            }
             match flow.step(dt) {
                 Ok(s) => {
-                    t = if dt == left { target } else { t + dt };
+                    t = t_next;
                     steps += 1;
                     particle_steps += flow.x.len() as f64;
                     for (k, ms) in s.stage_ms.iter().enumerate() {
@@ -268,10 +280,11 @@ pub fn run3d(case: &Case, opts: &RunOptions) -> Result<Run3Outcome, RunError> {
 
 /// One row; `volume_m2` is the volume per metre of width (m³ / width), the 2D series' unit.
 /// The 3D run's Δt for the flow's state, s: `time.dt_max_s`, the CFL bound
-/// `time.cfl · h / (fastest fluid particle)` and the surface-wave bound, as in 2D.
+/// `time.cfl · h / (fastest fluid particle or moving wall)` and the surface-wave bound, as in
+/// 2D.
 pub fn step_for(case: &Case, flow: &Flow3) -> f64 {
     let h = case.particles.spacing_m;
-    let speed = flow.max_fluid_speed();
+    let speed = flow.max_fluid_speed().max(flow.wall_speed());
     let cfl_dt = if speed > 0.0 {
         case.time.cfl * h / speed
     } else {

@@ -2,11 +2,15 @@
 //! α-shape's tetrahedra, the end-of-step velocity, and [`Flow3`], the time step around them
 //! (remesh, explicit Smagorinsky predictor, pressure, correction, slip or no-slip walls, move
 //! with the walls' guard); [`setup::from_case`] seeds it from a case with a `flume.width_m`.
-//! Axes: x along the flume, y up, z across it. Node insertion and removal and the wavemaker are
-//! not built yet. The pressure equation and the correction are in `pressure`.
+//! Axes: x along the flume, y up, z across it. A piston across the tank is in `piston`; node
+//! insertion and removal are not built yet. The pressure equation and the correction are in
+//! `pressure`.
 
+pub mod piston;
 pub mod pressure;
 pub mod setup;
+
+pub use piston::Piston3;
 
 pub use pressure::{
     CHOLESKY_LIMIT_UNKNOWNS, CHOLESKY_MAX_UNKNOWNS, FLAT_QUALITY, PressureError, Solver3,
@@ -26,6 +30,9 @@ pub struct WallPlane {
     pub at_m: f64,
     /// +1 when the water is on the side of larger coordinates, −1 otherwise.
     pub inward: f64,
+    /// Velocity of the plane along its axis in the current step, m/s (0 for a fixed wall;
+    /// a piston's face moves).
+    pub velocity_m_s: f64,
 }
 
 impl WallPlane {
@@ -39,7 +46,12 @@ impl WallPlane {
 /// `mesh3d::lattice_tank` and [`setup::from_case`]: bed (y = lo), x = lo, x = hi, z = lo,
 /// z = hi.
 pub fn box_planes(lo: [f64; 3], hi: [f64; 3]) -> Vec<WallPlane> {
-    let plane = |axis: usize, at_m: f64, inward: f64| WallPlane { axis, at_m, inward };
+    let plane = |axis: usize, at_m: f64, inward: f64| WallPlane {
+        axis,
+        at_m,
+        inward,
+        velocity_m_s: 0.0,
+    };
     vec![
         plane(1, lo[1], 1.0),
         plane(0, lo[0], 1.0),
@@ -87,6 +99,8 @@ pub struct Flow3 {
     pub was_free: Vec<bool>,
     /// The tetrahedralisation's working memory, kept from step to step.
     pub mesher: Tetrahedraliser,
+    /// The piston wavemaker, when the tank has one (its face is one of `planes`).
+    pub piston: Option<Piston3>,
 }
 
 /// The stages of [`Flow3::step`], in order.
@@ -151,10 +165,12 @@ impl Flow3 {
             stage_ms[k] = clock.elapsed().as_secs_f64() * 1e3;
             clock = std::time::Instant::now();
         };
+        self.start_piston(dt_s);
         let mut mesher = std::mem::take(&mut self.mesher);
         let remeshed = self.remesh(&mut mesher, &mut lap);
         self.mesher = mesher;
         let (mesh, shape, elements) = remeshed?;
+        let inflow = self.wall_inflow(&mesh, &shape);
         let volume_m3 = elements.iter().map(|e| e.volume).sum();
         // Every node of the mesh, walls included, predicts from the momentum equation; the
         // wall's u·n = 0 enters through the pressure's natural boundary condition, and the
@@ -173,6 +189,7 @@ impl Flow3 {
                 points: &self.x,
                 length_m,
             }),
+            inflow.as_deref(),
         )?;
         self.p = p;
         lap(4);
@@ -186,7 +203,9 @@ impl Flow3 {
             dt_s,
         );
         lap(5);
-        let guarded = self.move_nodes(dt_s);
+        self.advance_piston_plane();
+        let guarded = self.move_nodes(dt_s, &shape.in_mesh);
+        self.place_piston_band();
         // The same tetrahedra on the moved nodes: what the move changed (the next remesh
         // changes the rest).
         let moved_volume_m3 = shape
@@ -307,24 +326,29 @@ impl Flow3 {
             .collect()
     }
 
-    /// The wall nodes' constraint on the corrected velocity (slip: the components across each
-    /// of the node's planes removed, so an edge keeps the part along it and a corner none;
-    /// no-slip: zero), then the fluid nodes moved by Δt uⁿ⁺¹ and put back on the water's side
-    /// of every plane by the wall margin, their velocity into that wall removed. Returns how
+    /// The wall nodes' constraint on the corrected velocity (slip, on a node of the mesh: the
+    /// components across each of the node's planes replaced by the plane's own velocity, 0 but
+    /// on a piston, so an edge keeps the part along it and a corner none; no-slip or dry: the
+    /// planes' velocity alone), then
+    /// the fluid nodes moved by Δt uⁿ⁺¹ and put back on the water's side of every plane (at
+    /// its end-of-step position) by the wall margin, their velocity into that wall, relative
+    /// to it, removed. Wall nodes do not move here (a piston's band does, after). Returns how
     /// many fluid nodes were put back.
-    fn move_nodes(&mut self, dt_s: f64) -> usize {
+    fn move_nodes(&mut self, dt_s: f64, in_mesh: &[bool]) -> usize {
         let mut guarded = 0;
         for i in 0..self.x.len() {
             let mask = self.walls[i];
             if mask != 0 {
-                if self.slip {
-                    for (b, plane) in self.planes.iter().enumerate() {
-                        if mask & (1 << b) != 0 {
-                            self.u[i][plane.axis] = 0.0;
-                        }
-                    }
-                } else {
+                // A dry wall node (in no kept tetrahedron) has no flow to slip with: it moves
+                // with its wall, else it would keep falling under gravity step after step and
+                // bring that speed into the first tetrahedron the rising water gives it.
+                if !self.slip || !in_mesh[i] {
                     self.u[i] = Vector3::zeros();
+                }
+                for (b, plane) in self.planes.iter().enumerate() {
+                    if mask & (1 << b) != 0 {
+                        self.u[i][plane.axis] = plane.velocity_m_s;
+                    }
                 }
                 continue;
             }
@@ -335,8 +359,8 @@ impl Flow3 {
             for plane in &self.planes {
                 if plane.distance(&self.x[i]) < self.wall_margin_m {
                     self.x[i][plane.axis] = plane.at_m + plane.inward * self.wall_margin_m;
-                    if plane.inward * self.u[i][plane.axis] < 0.0 {
-                        self.u[i][plane.axis] = 0.0;
+                    if plane.inward * (self.u[i][plane.axis] - plane.velocity_m_s) < 0.0 {
+                        self.u[i][plane.axis] = plane.velocity_m_s;
                     }
                     put_back = true;
                 }
@@ -507,6 +531,7 @@ pub fn still_tank(nx: usize, ny: usize, nz: usize, h: f64, jitter: f64) -> Flow3
         surface: Vec::new(),
         was_free: Vec::new(),
         mesher: Tetrahedraliser::default(),
+        piston: None,
     }
 }
 

@@ -102,6 +102,9 @@ pub struct WeakSurface<'a> {
 /// the predicted velocity `u_star` (m/s), density `rho` (kg/m³) and step `dt_s`, and the
 /// solver's iterations (0 for Cholesky); `elements` as [`elements`] gives them.
 ///
+/// `inflow` (m³/s per node, from `Flow3::wall_inflow`) is what moving walls push into the water:
+/// the boundary term (ρ/Δt) ∮ φᵢ U·n_in dA of a wall whose u·n is U·n at the end of the step.
+///
 /// With `weak`, the free-surface boundary terms of the weak form stay: the Robin term
 /// Σ (A/3) p_i / λ on the diagonal and −(ρ/Δt) Σ (A/3) u*_i·n on the right (lumped over each
 /// free-surface triangle of area A and outward normal n), so that a hydrostatic pressure is
@@ -116,6 +119,7 @@ pub fn pressure(
     dt_s: f64,
     solver: Solver3,
     weak: Option<WeakSurface>,
+    inflow: Option<&[f64]>,
 ) -> Result<(Vec<f64>, usize), PressureError> {
     let n = shape.in_mesh.len();
     // Unknowns: the nodes of the mesh that are not on the free surface (all of them with the
@@ -188,6 +192,13 @@ pub fn pressure(
                     area / 3.0 / w.length_m,
                 ));
                 rhs[row as usize] -= rho / dt_s * area / 3.0 * u_star[i as usize].dot(&normal);
+            }
+        }
+    }
+    if let Some(q) = inflow {
+        for (i, &q) in q.iter().enumerate() {
+            if unknown[i] != u32::MAX {
+                rhs[unknown[i] as usize] += rho / dt_s * q;
             }
         }
     }

@@ -1,5 +1,7 @@
 //! A 3D flow seeded from a case whose `[flume]` has a `width_m`: the 2D case's flume and water
-//! regions extruded across the width, between two side walls at z = 0 and z = width.
+//! regions extruded across the width, between two side walls at z = 0 and z = width. With a
+//! piston wavemaker the tank starts at the piston's face (`wavemaker.x_m`): the end wall x = lo
+//! is the piston ([`super::Piston3`]), and the dry flume behind it is left out.
 //!
 //! Walls are lattices of nodes at about the particle spacing h: the bed (y = 0) over the whole
 //! tank, the end walls x = 0 and x = length and the side walls up to the flume's height. Each
@@ -27,7 +29,7 @@ fn refuse(field: &str, message: &str) -> Setup3Error {
 }
 
 /// The 3D flow of `case` at rest (hydrostatic pressure), or why the 3D path cannot run it yet:
-/// no width, a bed that is not flat, a wavemaker, an absorber or one of the 2D solver's
+/// no width, a bed that is not flat, a flap or an absorbing paddle, an absorber or one of the 2D solver's
 /// optional remedies. The case's sizes were checked when it was loaded (`Case::validate`
 /// counts the 3D nodes).
 pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
@@ -48,11 +50,47 @@ pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
             "the 3D path takes a flat bed (y = 0) for now; beaches and bars are not built yet",
         ));
     }
-    if case.wavemaker.is_some() {
-        return Err(refuse(
-            "wavemaker",
-            "the 3D path has no paddle yet (issue 26): only still water and dam breaks run in 3D",
-        ));
+    let mut piston_band_m = None;
+    if let Some(w) = &case.wavemaker {
+        if w.paddle != crate::waves::linear::PaddleKind::Piston {
+            return Err(refuse(
+                "wavemaker.paddle",
+                "the 3D path has a piston across the tank, not a flap (yet)",
+            ));
+        }
+        if w.absorb_long_waves || w.absorb_reflected_waves {
+            return Err(refuse(
+                if w.absorb_long_waves {
+                    "wavemaker.absorb_long_waves"
+                } else {
+                    "wavemaker.absorb_reflected_waves"
+                },
+                "the 3D piston does not absorb yet (2D only): leave it off",
+            ));
+        }
+        // The band of wall nodes spread with the face: ten times the larger excursion, at
+        // least ten spacings, so that their spacing changes by a tenth at most.
+        let reach = match crate::waves::paddle::PaddleMotion::from_case(case) {
+            Some(Ok(m)) => {
+                let (back, forward) = m.excursion_m();
+                back.abs().max(forward.abs())
+            }
+            Some(Err(e)) => return Err(refuse("wavemaker", &e.to_string())),
+            None => 0.0,
+        };
+        let h = case.particles.spacing_m;
+        let band = (10.0 * reach).max(10.0 * h);
+        if band > 0.5 * (f.length_m - w.x_m) {
+            return Err(refuse(
+                "flume.length_m",
+                &format!(
+                    "the tank in front of the piston ({:.3} m) is shorter than twice the band \
+                     its wall nodes are spread over ({band:.3} m, ten strokes or ten spacings)",
+                    f.length_m - w.x_m
+                ),
+            ));
+        }
+        piston_band_m = Some(band);
     }
     if case.absorber.is_some() {
         return Err(refuse("absorber", "the 3D path has no damping layer yet"));
@@ -102,7 +140,9 @@ pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
         let n = (extent / h).round().max(1.0) as usize;
         (n, extent / n as f64)
     };
-    let (nx, dx) = lattice(f.length_m);
+    // The tank starts at the piston's face, or at x = 0.
+    let x_lo = case.wavemaker.as_ref().map_or(0.0, |w| w.x_m);
+    let (nx, dx) = lattice(f.length_m - x_lo);
     let (ny, dy) = lattice(f.height_m);
     let nz = lattice(width).0;
     let dz = width / nz as f64;
@@ -118,13 +158,13 @@ pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
             for k in 0..=nz {
                 let mask = (j == 0) as u16 | side_mask(i, k);
                 if mask != 0 {
-                    x.push([i as f64 * dx, j as f64 * dy, k as f64 * dz]);
+                    x.push([x_lo + i as f64 * dx, j as f64 * dy, k as f64 * dz]);
                     walls.push(mask);
                 }
             }
         }
     }
-    let planes = box_planes([0.0; 3], [f.length_m, f.height_m, width]);
+    let planes = box_planes([x_lo, 0.0, 0.0], [f.length_m, f.height_m, width]);
     let mut taken = std::collections::HashSet::new();
     for w in &case.water {
         let (nxw, dxw) = {
@@ -156,6 +196,8 @@ pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
         }
     }
     let n = x.len();
+    // The face is the plane x = lo, the second of `box_planes`.
+    let piston = piston_band_m.map(|band| super::Piston3::new(1, x_lo, band, &x, &walls));
     let rho = case.fluid.density_kg_m3;
     let g = case.fluid.gravity_m_s2;
     // Hydrostatic under the level of the region above each node (the first frame's pressure).
@@ -193,5 +235,6 @@ pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
         surface: Vec::new(),
         was_free: Vec::new(),
         mesher: Default::default(),
+        piston,
     })
 }

@@ -27,7 +27,10 @@ fn one_step_at_rest(
     let shape = alpha_shape(p, walls, &mesh, 1.2 * h);
     let u_star = vec![Vector3::new(0.0, -G * DT, 0.0); p.len()];
     let elements = elements(p, &mesh, &shape).unwrap();
-    let (pressure, _) = pressure(&mesh, &shape, &elements, &u_star, RHO, DT, solver, None).unwrap();
+    let (pressure, _) = pressure(
+        &mesh, &shape, &elements, &u_star, RHO, DT, solver, None, None,
+    )
+    .unwrap();
     let u = correct(&mesh, &shape, &elements, &u_star, &pressure, RHO, DT);
     let mut worst_p = 0.0f64;
     let mut worst_u = 0.0f64;
@@ -218,6 +221,25 @@ fn cases_the_3d_path_cannot_run_are_refused_with_the_field() {
         .unwrap()
         .to_string();
     assert!(err.contains("flume.width_m") && err.contains("3D"), "{err}");
+    // A piston runs; a flap and an absorbing piston are refused with their field.
+    let piston = std::path::Path::new("cases/tank3d_piston.toml");
+    let paddle = |set: &[&str]| {
+        let set: Vec<String> = set.iter().map(|s| s.to_string()).collect();
+        setup::from_case(&crate::case::Case::load(piston, &set).unwrap())
+    };
+    let flow = paddle(&[]).unwrap();
+    let face = flow.piston.as_ref().unwrap();
+    assert_eq!((face.plane, face.rest_m), (1, 0.3));
+    assert!(flow.x.iter().all(|q| q[0] >= 0.3));
+    for (setting, field) in [
+        ("wavemaker.paddle=flap", "wavemaker.paddle"),
+        (
+            "wavemaker.absorb_long_waves=true",
+            "wavemaker.absorb_long_waves",
+        ),
+    ] {
+        assert_eq!(paddle(&[setting]).unwrap_err().field, field);
+    }
 }
 
 #[test]
@@ -244,6 +266,7 @@ fn the_weak_surface_keeps_a_jittered_tank_at_rest_with_the_level_raised_by_lambd
         DT,
         Solver3::Cholesky,
         Some(weak),
+        None,
     )
     .unwrap();
     let u = correct(&mesh, &shape, &elements, &u_star, &pressure, RHO, DT);
@@ -316,4 +339,26 @@ fn the_gauges_read_the_free_surface_on_a_vertical_line() {
     }
     println!("gauges: flat top within {worst:.1e} m, tilted within {worst_tilted:.1e} m");
     assert!(worst < 1e-12 && worst_tilted < 1e-12);
+}
+
+/// A slip wall node above the water has no flow to slip with: it must not gather speed from
+/// gravity step after step (it would bring it into the first tetrahedron the rising water
+/// gives it).
+#[test]
+fn dry_wall_nodes_of_slip_walls_stay_at_rest() {
+    let mut flow = case_tank();
+    flow.slip = true;
+    flow.mesh_now().unwrap();
+    for _ in 0..20 {
+        flow.step(2.5e-3).unwrap();
+    }
+    let dry = (0..flow.x.len())
+        .filter(|&i| flow.walls[i] != 0 && !flow.in_mesh[i])
+        .collect::<Vec<_>>();
+    let fastest = dry.iter().map(|&i| flow.u[i].norm()).fold(0.0, f64::max);
+    println!(
+        "{} dry wall nodes after 50 ms, fastest {fastest:.1e} m/s",
+        dry.len()
+    );
+    assert!(!dry.is_empty() && fastest == 0.0);
 }
