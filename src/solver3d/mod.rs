@@ -171,6 +171,7 @@ impl Flow3 {
         self.mesher = mesher;
         let (mesh, shape, elements) = remeshed?;
         let inflow = self.wall_inflow(&mesh, &shape);
+        let fixed = self.contact_pressure(&shape);
         let volume_m3 = elements.iter().map(|e| e.volume).sum();
         // Every node of the mesh, walls included, predicts from the momentum equation; the
         // wall's u·n = 0 enters through the pressure's natural boundary condition, and the
@@ -190,6 +191,7 @@ impl Flow3 {
                 length_m,
             }),
             inflow.as_deref(),
+            fixed.as_deref(),
         )?;
         self.p = p;
         lap(4);
@@ -281,6 +283,44 @@ impl Flow3 {
         self.was_free = shape.free_surface;
         self.surface = shape.surface;
         Ok(elements.iter().map(|e| e.volume).sum())
+    }
+
+    /// The pressure imposed on the free surface's nodes with strong p = 0 (`None` with the weak
+    /// surface, whose nodes all keep their row): 0, but a wall node on the free surface is a
+    /// contact point — the water line crosses the wall somewhere between it and the fluid
+    /// nodes of its surface triangles — and gets the hydrostatic ρ g (ȳ − y) of their mean
+    /// height ȳ (negative above the water line), as in 2D. With 0 there, a water line that
+    /// does not lie on a row of wall nodes holds a pressure that falls to 0 up to h below or
+    /// above it, whose gradient pushes the water from or into the wall: the case tank with
+    /// 6.5 h of water moved at 0.13 m/s by 0.2 s and lost 40 % of its water in 1 s.
+    fn contact_pressure(&self, shape: &AlphaShape) -> Option<Vec<f64>> {
+        if self.weak_surface_m.is_some() {
+            return None;
+        }
+        let n = self.x.len();
+        let mut sum = vec![(0.0, 0usize); n];
+        for f in &shape.surface {
+            for &w in f {
+                if self.walls[w as usize] == 0 {
+                    continue;
+                }
+                for &i in f {
+                    if self.walls[i as usize] == 0 {
+                        sum[w as usize].0 += self.x[i as usize][1];
+                        sum[w as usize].1 += 1;
+                    }
+                }
+            }
+        }
+        let g = -self.gravity_m_s2.y;
+        Some(
+            (0..n)
+                .map(|i| match sum[i] {
+                    (s, k) if k > 0 => self.rho_kg_m3 * g * (s / k as f64 - self.x[i][1]),
+                    _ => 0.0,
+                })
+                .collect(),
+        )
     }
 
     /// ũ = uⁿ + Δt (g + f/m): f the Smagorinsky viscous forces of the kept tetrahedra

@@ -102,6 +102,9 @@ pub struct WeakSurface<'a> {
 /// the predicted velocity `u_star` (m/s), density `rho` (kg/m³) and step `dt_s`, and the
 /// solver's iterations (0 for Cholesky); `elements` as [`elements`] gives them.
 ///
+/// `fixed` (Pa per node) is the pressure imposed on the nodes without a row (0 if `None`): the
+/// free surface's, 0 but at a wall's contact points (`Flow3::contact_pressure`).
+///
 /// `inflow` (m³/s per node, from `Flow3::wall_inflow`) is what moving walls push into the water:
 /// the boundary term (ρ/Δt) ∮ φᵢ U·n_in dA of a wall whose u·n is U·n at the end of the step.
 ///
@@ -120,7 +123,9 @@ pub fn pressure(
     solver: Solver3,
     weak: Option<WeakSurface>,
     inflow: Option<&[f64]>,
+    fixed: Option<&[f64]>,
 ) -> Result<(Vec<f64>, usize), PressureError> {
+    let fixed_at = |i: u32| fixed.map_or(0.0, |f| f[i as usize]);
     let n = shape.in_mesh.len();
     // Unknowns: the nodes of the mesh that are not on the free surface (all of them with the
     // weak surface).
@@ -164,10 +169,13 @@ pub fn pressure(
             rhs[row as usize] += rho / dt_s * e.volume * e.grad[a].dot(&mean_u);
             for b in 0..4 {
                 let col = unknown[v[b] as usize];
+                let k = e.volume * e.grad[a].dot(&e.grad[b]);
                 // Cholesky reads the lower triangle; CG needs the whole matrix.
                 if col != u32::MAX && (col <= row || solver == Solver3::Cg) {
-                    let k = e.volume * e.grad[a].dot(&e.grad[b]);
                     triplets.push(Triplet::new(row as usize, col as usize, k));
+                } else if col == u32::MAX {
+                    // A node of imposed pressure (0 but at a contact point) moves to the right.
+                    rhs[row as usize] -= k * fixed_at(v[b]);
                 }
             }
         }
@@ -202,7 +210,15 @@ pub fn pressure(
             }
         }
     }
-    let mut p = vec![0.0; n];
+    let mut p: Vec<f64> = (0..n)
+        .map(|i| {
+            if shape.in_mesh[i] && unknown[i] == u32::MAX {
+                fixed_at(i as u32)
+            } else {
+                0.0
+            }
+        })
+        .collect();
     if count == 0 {
         return Ok((p, 0));
     }
