@@ -369,11 +369,10 @@ impl Flow3 {
     /// The wall nodes' constraint on the corrected velocity (slip, on a node of the mesh: the
     /// components across each of the node's planes replaced by the plane's own velocity, 0 but
     /// on a piston, so an edge keeps the part along it and a corner none; no-slip or dry: the
-    /// planes' velocity alone), then
-    /// the fluid nodes moved by Δt uⁿ⁺¹ and put back on the water's side of every plane (at
-    /// its end-of-step position) by the wall margin, their velocity into that wall, relative
-    /// to it, removed. Wall nodes do not move here (a piston's band does, after). Returns how
-    /// many fluid nodes were put back.
+    /// planes' velocity alone), then the fluid nodes moved by Δt uⁿ⁺¹ and put back on the
+    /// water's side of every plane (at its end-of-step position) by the wall margin, their
+    /// velocity into that wall, relative to it, removed. Wall nodes do not move here (a
+    /// piston's band does, after). Returns how many fluid nodes were put back.
     fn move_nodes(&mut self, dt_s: f64, in_mesh: &[bool]) -> usize {
         let mut guarded = 0;
         for i in 0..self.x.len() {
