@@ -126,7 +126,7 @@ impl Flow3 {
         for &t in &shape.kept {
             let v = mesh.tets[t as usize];
             for skip in 0..4 {
-                let f: Vec<u32> = (0..4).filter(|&k| k != skip).map(|k| v[k]).collect();
+                let f = [1, 2, 3].map(|k| v[(skip + k) % 4]);
                 let shared = f.iter().fold(u16::MAX, |m, &i| m & self.walls[i as usize]) & moving;
                 if shared == 0 {
                     continue;

@@ -169,13 +169,16 @@ pub fn pressure(
             rhs[row as usize] += rho / dt_s * e.volume * e.grad[a].dot(&mean_u);
             for b in 0..4 {
                 let col = unknown[v[b] as usize];
-                let k = e.volume * e.grad[a].dot(&e.grad[b]);
-                // Cholesky reads the lower triangle; CG needs the whole matrix.
-                if col != u32::MAX && (col <= row || solver == Solver3::Cg) {
-                    triplets.push(Triplet::new(row as usize, col as usize, k));
-                } else if col == u32::MAX {
+                let k = || e.volume * e.grad[a].dot(&e.grad[b]);
+                if col == u32::MAX {
                     // A node of imposed pressure (0 but at a contact point) moves to the right.
-                    rhs[row as usize] -= k * fixed_at(v[b]);
+                    let fixed = fixed_at(v[b]);
+                    if fixed != 0.0 {
+                        rhs[row as usize] -= k() * fixed;
+                    }
+                } else if col <= row || solver == Solver3::Cg {
+                    // Cholesky reads the lower triangle; CG needs the whole matrix.
+                    triplets.push(Triplet::new(row as usize, col as usize, k()));
                 }
             }
         }
