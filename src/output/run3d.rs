@@ -31,6 +31,9 @@ pub struct Row3 {
     pub slivers_kept: usize,
     /// Fluid nodes the walls' guard put back since the previous row.
     pub guarded: usize,
+    /// Fluid nodes inserted and removed since the previous row (the `nodes` stage).
+    pub inserted: usize,
+    pub removed: usize,
     /// What the moves changed of the volume since the start, m³ (Σ moved − start of step).
     pub moves_m3: f64,
     /// What the remeshes changed since the start, m³ (Σ next start − moved).
@@ -86,7 +89,7 @@ impl Run3Outcome {
 
 const CSV_HEADER: &str = "t_s,dt_s,steps,volume_m3,volume_m2,volume_ratio,fluid_particles,\
 isolated_particles,max_speed_m_s,kinetic_energy_j,front_x_m,left_wall_height_m,tetrahedra,\
-slivers_kept,guarded,moves_m3,remeshes_m3";
+slivers_kept,guarded,inserted,removed,moves_m3,remeshes_m3";
 
 /// η at each of the case's elevation gauges (`output.gauges_x_m`), m above the still-water
 /// level there, on the tank's centre line z = width / 2: the highest crossing of the free
@@ -159,6 +162,8 @@ pub fn run3d(case: &Case, opts: &RunOptions) -> Result<Run3Outcome, RunError> {
         tetrahedra: 0,
         slivers_kept: 0,
         guarded: 0,
+        inserted: 0,
+        removed: 0,
         moves_m3: 0.0,
         remeshes_m3: 0.0,
         integrals: flow.integrals(),
@@ -184,6 +189,8 @@ pub fn run3d(case: &Case, opts: &RunOptions) -> Result<Run3Outcome, RunError> {
         }
         rows.push(row);
         row.guarded = 0;
+        row.inserted = 0;
+        row.removed = 0;
         if t >= end_s - 1e-12 || status != "ok" {
             break;
         }
@@ -233,6 +240,8 @@ pub fn run3d(case: &Case, opts: &RunOptions) -> Result<Run3Outcome, RunError> {
                     row.tetrahedra = s.tetrahedra;
                     row.slivers_kept = s.slivers_kept;
                     row.guarded += s.guarded;
+                    row.inserted += s.nodes.inserted;
+                    row.removed += s.nodes.removed;
                     progress.update(t, steps);
                 }
                 Err(e) => {
@@ -298,7 +307,7 @@ fn write_row(out: &mut impl Write, r: &Row3, v0: f64, width_m: f64) -> std::io::
     let i = &r.integrals;
     writeln!(
         out,
-        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
         r.t_s,
         r.dt_s,
         r.steps,
@@ -314,6 +323,8 @@ fn write_row(out: &mut impl Write, r: &Row3, v0: f64, width_m: f64) -> std::io::
         r.tetrahedra,
         r.slivers_kept,
         r.guarded,
+        r.inserted,
+        r.removed,
         r.moves_m3,
         r.remeshes_m3
     )

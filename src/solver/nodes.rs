@@ -6,9 +6,9 @@
 //! make slivers. So, after the move:
 //! - insertion: a kept triangle whose circumradius (at the current positions) exceeds
 //!   `insert_radius_h`·h gets a new fluid node at its centroid, with the mean velocity, pressure and
-//!   π of its nodes, unless another new node already stands within h/2, or all three of its
-//!   nodes are on the boundary (free surface or wall): such a triangle may bridge air, and a
-//!   node put in it would turn air into water (Kratos and PFEM3D avoid it likewise);
+//!   π of its nodes, unless another new node already stands within h/2, or one of its nodes is
+//!   on the free surface: such a triangle may bridge air, and a node put in it would turn air
+//!   into water (Kratos and PFEM3D avoid it likewise);
 //! - removal: an interior fluid node (not on the free surface, so the volume does not change)
 //!   closer than `remove_distance_h`·h to a neighbour in the kept mesh is removed (one of each pair).
 //! - merging (`merge_surface_distance_h`, off by default): two free-surface fluid nodes joined by

@@ -6,10 +6,12 @@
 //! insertion and removal are not built yet. The pressure equation and the correction are in
 //! `pressure`.
 
+pub mod nodes;
 pub mod piston;
 pub mod pressure;
 pub mod setup;
 
+pub use nodes::{INSERT_RADIUS_3D_OVER_2D, NodeChanges3};
 pub use piston::Piston3;
 
 pub use pressure::{
@@ -101,10 +103,16 @@ pub struct Flow3 {
     pub mesher: Tetrahedraliser,
     /// The piston wavemaker, when the tank has one (its face is one of `planes`).
     pub piston: Option<Piston3>,
+    /// A kept tetrahedron wider than this (circumradius, m) gets a node at its centroid
+    /// (`nodes`); `None`: no insertion.
+    pub insert_radius_m: Option<f64>,
+    /// An interior fluid node closer than this to a neighbour is removed (`nodes`), m; `None`:
+    /// no removal.
+    pub remove_distance_m: Option<f64>,
 }
 
 /// The stages of [`Flow3::step`], in order.
-pub const STAGES_3D: [&str; 7] = [
+pub const STAGES_3D: [&str; 8] = [
     "tetrahedralise",
     "alpha_shape",
     "elements",
@@ -112,6 +120,7 @@ pub const STAGES_3D: [&str; 7] = [
     "pressure",
     "correct",
     "move",
+    "nodes",
 ];
 
 /// What one step of [`Flow3`] measured.
@@ -129,8 +138,10 @@ pub struct Step3 {
     /// the water by `moved_volume_m3 − volume_m3`, the next remesh by its `volume_m3` less
     /// this.
     pub moved_volume_m3: f64,
+    /// Fluid nodes the `nodes` stage inserted and removed after the move.
+    pub nodes: NodeChanges3,
     /// Wall time of each stage of [`STAGES_3D`], ms.
-    pub stage_ms: [f64; 7],
+    pub stage_ms: [f64; 8],
 }
 
 /// What a frame of a 3D run reports (the 3D counterpart of `diagnostics::Integrals`).
@@ -148,8 +159,8 @@ pub struct Integrals3 {
 }
 
 impl Flow3 {
-    /// One step of Δt: tetrahedralise, α-shape, elements, predict, pressure, correct, move (the
-    /// stages of [`STAGES_3D`]).
+    /// One step of Δt: tetrahedralise, α-shape, elements, predict, pressure, correct, move,
+    /// nodes (the stages of [`STAGES_3D`]).
     pub fn step(&mut self, dt_s: f64) -> Result<Step3, PressureError> {
         if let Some(i) = (0..self.x.len()).find(|&i| {
             !(self.x[i].iter().all(|c| c.is_finite()) && self.u[i].iter().all(|c| c.is_finite()))
@@ -159,7 +170,7 @@ impl Flow3 {
                 self.x[i], self.u[i]
             )));
         }
-        let mut stage_ms = [0.0; 7];
+        let mut stage_ms = [0.0; 8];
         let mut clock = std::time::Instant::now();
         let mut lap = |k: usize| {
             stage_ms[k] = clock.elapsed().as_secs_f64() * 1e3;
@@ -169,7 +180,7 @@ impl Flow3 {
         let mut mesher = std::mem::take(&mut self.mesher);
         let remeshed = self.remesh(&mut mesher, &mut lap);
         self.mesher = mesher;
-        let (mesh, shape, elements) = remeshed?;
+        let (mesh, mut shape, elements) = remeshed?;
         let inflow = self.wall_inflow(&mesh, &shape);
         let fixed = self.contact_pressure(&shape);
         let volume_m3 = elements.iter().map(|e| e.volume).sum();
@@ -223,10 +234,12 @@ impl Flow3 {
                     / 6.0
             })
             .sum();
-        self.in_mesh = shape.in_mesh;
-        self.was_free = shape.free_surface;
-        self.surface = shape.surface;
+        self.in_mesh = shape.in_mesh.clone();
+        self.was_free = shape.free_surface.clone();
+        self.surface = std::mem::take(&mut shape.surface);
         lap(6);
+        let nodes = self.manage_nodes(&mesh, &shape);
+        lap(7);
         Ok(Step3 {
             volume_m3,
             tetrahedra: shape.kept.len(),
@@ -234,6 +247,7 @@ impl Flow3 {
             iterations,
             guarded,
             moved_volume_m3,
+            nodes,
             stage_ms,
         })
     }
@@ -571,6 +585,8 @@ pub fn still_tank(nx: usize, ny: usize, nz: usize, h: f64, jitter: f64) -> Flow3
         was_free: Vec::new(),
         mesher: Tetrahedraliser::default(),
         piston: None,
+        insert_radius_m: None,
+        remove_distance_m: None,
     }
 }
 

@@ -55,6 +55,14 @@ impl Piston3 {
         }
     }
 
+    /// Follows a renumbering of the nodes (`new_index[old]`; the band's wall nodes are never
+    /// removed).
+    pub(super) fn renumber(&mut self, new_index: &[u32]) {
+        for (i, _) in &mut self.band {
+            *i = new_index[*i as usize];
+        }
+    }
+
     /// x of a band node that stands at `x0_m` at rest, when the face is at `face_m`.
     pub fn spread(&self, x0_m: f64, face_m: f64) -> f64 {
         let s = ((x0_m - self.rest_m) / self.band_m).clamp(0.0, 1.0);

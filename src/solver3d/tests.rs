@@ -219,6 +219,8 @@ fn cases_the_3d_path_cannot_run_are_refused_with_the_field() {
         ("solver.midpoint_move=true", "solver.midpoint_move"),
         ("solver.delta=0.03", "solver.delta"),
         ("solver.geometry_theta=1", "solver.geometry_theta"),
+        // 1.0 h is 1.22 h in 3D, above α = 1.2 (valid in 2D).
+        ("solver.insert_radius_h=1.0", "solver.insert_radius_h"),
     ] {
         let err = setup::from_case(&load(&[setting])).unwrap_err();
         assert_eq!(err.field, field, "{err}");
@@ -375,4 +377,97 @@ fn dry_wall_nodes_of_slip_walls_stay_at_rest() {
         dry.len()
     );
     assert!(!dry.is_empty() && fastest == 0.0);
+}
+
+/// A lattice tank without gravity, with the case defaults of the `nodes` stage.
+fn tank_with_nodes(h: f64) -> Flow3 {
+    let mut flow = still_tank(8, 10, 6, h, 0.0);
+    flow.gravity_m_s2 = Vector3::zeros();
+    flow.insert_radius_m = Some(0.9 * INSERT_RADIUS_3D_OVER_2D * h);
+    flow.remove_distance_m = Some(0.35 * h);
+    flow
+}
+
+#[test]
+fn a_gap_in_the_water_gets_nodes_and_crowded_nodes_lose_one() {
+    let h = 0.1;
+    let fluid = |f: &Flow3| f.walls.iter().filter(|&&w| w == 0).count();
+    // The lattice: its tetrahedra (circumradius √3/2 h) and its flat ties are left alone.
+    let mut flow = tank_with_nodes(h);
+    for _ in 0..3 {
+        assert_eq!(flow.step(1e-3).unwrap().nodes, NodeChanges3::default());
+    }
+    // The fluid above y = 4.5 h lifted by 0.8 h: a layer 1.8 h thick between two rows of
+    // particles, whose tetrahedra (circumradius 1.14 h) are wider than the insert radius.
+    let mut flow = tank_with_nodes(h);
+    let n0 = flow.x.len();
+    let f0 = fluid(&flow);
+    for i in 0..n0 {
+        if flow.walls[i] == 0 && flow.x[i][1] > 4.5 * h {
+            flow.x[i][1] += 0.8 * h;
+        }
+    }
+    let walls_before: Vec<[f64; 3]> = (0..n0)
+        .filter(|&i| flow.walls[i] != 0)
+        .map(|i| flow.x[i])
+        .collect();
+    let s = flow.step(1e-3).unwrap();
+    println!("gap 1.8 h: {:?}", s.nodes);
+    assert!(s.nodes.inserted >= 10, "{:?}", s.nodes);
+    assert_eq!(s.nodes.removed, 0);
+    assert_eq!(fluid(&flow), f0 + s.nodes.inserted);
+    let closest = |i: usize| {
+        (0..flow.x.len())
+            .filter(|&j| j != i)
+            .map(|j| {
+                (0..3)
+                    .map(|k| (flow.x[i][k] - flow.x[j][k]).powi(2))
+                    .sum::<f64>()
+            })
+            .fold(f64::INFINITY, f64::min)
+            .sqrt()
+    };
+    for i in n0..flow.x.len() {
+        let y = flow.x[i][1];
+        assert!(y > 4.0 * h && y < 5.8 * h, "new node {i} at y = {y}");
+        assert!(closest(i) > 0.35 * h, "new node {i}: {} h", closest(i) / h);
+        assert!(flow.in_mesh[i] && !flow.was_free[i] && flow.u[i].norm() == 0.0);
+    }
+    // The walls did not move or change their numbers.
+    let walls_after: Vec<[f64; 3]> = (0..flow.x.len())
+        .filter(|&i| flow.walls[i] != 0)
+        .map(|i| flow.x[i])
+        .collect();
+    assert_eq!(walls_before, walls_after);
+    // An interior node pushed to 0.2 h from its neighbour: one of the two goes, and the
+    // free surface names the same positions as the lattice's after the renumbering.
+    let surface_of = |f: &Flow3| {
+        let mut v: Vec<Vec<u64>> = f
+            .surface
+            .iter()
+            .map(|t| {
+                let mut c: Vec<u64> = t
+                    .iter()
+                    .flat_map(|&i| f.x[i as usize].map(f64::to_bits))
+                    .collect();
+                c.sort_unstable();
+                c
+            })
+            .collect();
+        v.sort();
+        v
+    };
+    let mut lattice = tank_with_nodes(h);
+    lattice.step(1e-3).unwrap();
+    let mut flow = tank_with_nodes(h);
+    let inner = (0..flow.x.len())
+        .find(|&i| flow.walls[i] == 0 && (flow.x[i][1] - 3.0 * h).abs() < 1e-9)
+        .unwrap();
+    flow.x[inner][1] += 0.8 * h;
+    let f0 = fluid(&flow);
+    let s = flow.step(1e-3).unwrap();
+    assert_eq!((s.nodes.inserted, s.nodes.removed), (0, 1));
+    assert_eq!(fluid(&flow), f0 - 1);
+    assert_eq!(flow.in_mesh.len(), flow.x.len());
+    assert_eq!(surface_of(&flow), surface_of(&lattice));
 }
