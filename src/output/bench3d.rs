@@ -138,6 +138,12 @@ pub fn bench_still_tank(nodes: usize, steps: u64, solver: &str) -> Result<()> {
     let nz = ((nodes as f64 / 4.0).cbrt().round() as usize).max(3);
     let mut flow = still_tank(2 * nz, nz, 2 * nz, 0.02, 0.3);
     flow.solver = solver;
+    // Node management at a case's defaults, so that its stage is timed too.
+    let defaults = crate::case::SolverSettings::default();
+    flow.insert_radius_m = defaults
+        .insert_radius_h
+        .map(|r| r * crate::solver3d::INSERT_RADIUS_3D_OVER_2D * flow.h_m);
+    flow.remove_distance_m = defaults.remove_distance_h.map(|d| d * flow.h_m);
     let n = flow.x.len();
     println!(
         "surflab bench3d: still tank {} × {nz} × {} nodes (y up; {n}), h = 2 cm, Δt = 10 ms, \
