@@ -1,10 +1,10 @@
 //! The 3D fractional step (issue 26): the pressure Poisson equation of one step on the
 //! α-shape's tetrahedra, the end-of-step velocity, and [`Flow3`], the time step around them
 //! (remesh, explicit Smagorinsky predictor, pressure, correction, slip or no-slip walls, move
-//! with the walls' guard); [`setup::from_case`] seeds it from a case with a `flume.width_m`.
-//! Axes: x along the flume, y up, z across it. A piston across the tank is in `piston`; node
-//! insertion and removal are not built yet. The pressure equation and the correction are in
-//! `pressure`.
+//! with the walls' guard, node insertion and removal); [`setup::from_case`] seeds it from a
+//! case with a `flume.width_m`. Axes: x along the flume, y up, z across it. A piston across
+//! the tank is in `piston`, node management in `nodes`, the pressure equation and the
+//! correction in `pressure`.
 
 pub mod nodes;
 pub mod piston;
