@@ -13,8 +13,8 @@
 //!   the 3D dam break gained 19 % of its water by the impact, against 5.9 %), it is a sliver
 //!   (quality below `SLIVER_QUALITY`: four nearly coplanar nodes, as on a face of the seeding's
 //!   lattice, whose circumradius says nothing of the spacing; with them, 3D sloshing at
-//!   h = 2.5 cm got 700–770 nodes in its first 0.1 s, a third of its 2 340), or its centroid lies within h/2 of one of
-//!   its nodes;
+//!   h = 2.5 cm got 700–770 nodes in its first 0.1 s, a third of its 2 340), or its centroid
+//!   lies within h/2 of one of its nodes;
 //! - removal: an interior fluid node (in the mesh, not on the free surface, so the volume does
 //!   not change) closer than the remove distance to a neighbour along an edge of a kept
 //!   tetrahedron is removed (one of each pair).
