@@ -181,6 +181,9 @@ impl Flow3 {
         let remeshed = self.remesh(&mut mesher, &mut lap);
         self.mesher = mesher;
         let (mesh, mut shape, elements) = remeshed?;
+        if self.slip {
+            self.slip_walls_take_the_water_velocity(&mesh, &shape);
+        }
         let inflow = self.wall_inflow(&mesh, &shape);
         let fixed = self.contact_pressure(&shape);
         let volume_m3 = elements.iter().map(|e| e.volume).sum();
@@ -378,6 +381,50 @@ impl Flow3 {
                 self.u[i] + dt_s * accel
             })
             .collect()
+    }
+
+    /// A slip wall node stands still while the water slides past it: its velocity is the
+    /// water's at a fixed point, not that of a particle. Left to its own momentum equation it
+    /// changes by Δt times the acceleration of the water passing it, which differs from the
+    /// change at a fixed point by Δt (u·∇)u, a term whose mean over a standing wave is not zero:
+    /// the walls' velocity drifted from the water's and fed the wave (3D sloshing at
+    /// h = 2.5 cm, 4 h wide: kinetic-energy peaks ×2.39 in 1.2 s, no-slip ×1.03). So at the
+    /// start of each step every wall node of a kept tetrahedron takes the mean velocity of the
+    /// fluid nodes of its kept tetrahedra (each counted once per tetrahedron), less the
+    /// components across its planes, which are the planes' own: free slip has no normal
+    /// gradient of the velocity along the wall, so the water beside the node is what moves at
+    /// it (×1.23; 8 h wide ×1.09 against ×2.06). Explicitly subtracting Δt (u·∇)u instead
+    /// diverged.
+    fn slip_walls_take_the_water_velocity(
+        &mut self,
+        mesh: &Tetrahedralisation,
+        shape: &AlphaShape,
+    ) {
+        let mut sum = vec![(Vector3::zeros(), 0usize); self.x.len()];
+        for &t in &shape.kept {
+            let v = mesh.tets[t as usize].map(|i| i as usize);
+            let fluid: Vector3<f64> = v
+                .iter()
+                .filter(|&&j| self.walls[j] == 0)
+                .map(|&j| self.u[j])
+                .sum();
+            let count = v.iter().filter(|&&j| self.walls[j] == 0).count();
+            for &w in v.iter().filter(|&&w| self.walls[w] != 0) {
+                sum[w].0 += fluid;
+                sum[w].1 += count;
+            }
+        }
+        for (i, &(total, count)) in sum.iter().enumerate() {
+            if count == 0 {
+                continue;
+            }
+            self.u[i] = total / count as f64;
+            for (b, plane) in self.planes.iter().enumerate() {
+                if self.walls[i] & (1 << b) != 0 {
+                    self.u[i][plane.axis] = plane.velocity_m_s;
+                }
+            }
+        }
     }
 
     /// The wall nodes' constraint on the corrected velocity (slip, on a node of the mesh: the

@@ -4,7 +4,8 @@
 //! The flow stretches the cloud in places and crowds it in others. Where it stretches, a kept
 //! tetrahedron grows until the α-shape drops it and opens a hole in the water whose faces are
 //! a spurious free surface. Without this stage the 3D dam break had lost 26.7 % of its water
-//! by the impact and its front ran 17.5 % slow; with it, +5.9 % and −6.9 %.
+//! by the impact and its front ran 17.5 % slow; with it, +5.9 % and −6.9 % (before the slip
+//! walls took the water's velocity).
 //! - insertion: a kept tetrahedron whose circumradius at the moved positions exceeds the insert
 //!   radius gets a fluid node at its centroid with the mean velocity and pressure of its four
 //!   nodes, unless another new node already stands within h/2 (a grid of h/2 cells), one of its

@@ -471,3 +471,54 @@ fn a_gap_in_the_water_gets_nodes_and_crowded_nodes_lose_one() {
     assert_eq!(flow.in_mesh.len(), flow.x.len());
     assert_eq!(surface_of(&flow), surface_of(&lattice));
 }
+
+#[test]
+fn slip_wall_nodes_take_the_velocity_of_the_water_beside_them() {
+    // The case tank: its walls rise above the water, so some wall nodes are in no tetrahedron.
+    let mut flow = case_tank();
+    flow.slip = true;
+    let u_water = Vector3::new(0.1, 0.2, 0.3);
+    let stale = Vector3::new(9.0, 9.0, 9.0);
+    for i in 0..flow.x.len() {
+        flow.u[i] = if flow.walls[i] == 0 { u_water } else { stale };
+    }
+    let mut mesher = Tetrahedraliser::default();
+    let (mesh, shape, _) = flow.remesh(&mut mesher, &mut |_| {}).unwrap();
+    flow.slip_walls_take_the_water_velocity(&mesh, &shape);
+    let mut beside_water = vec![false; flow.x.len()];
+    for &t in &shape.kept {
+        let v = mesh.tets[t as usize];
+        if v.iter().any(|&j| flow.walls[j as usize] == 0) {
+            for &j in &v {
+                beside_water[j as usize] = true;
+            }
+        }
+    }
+    let mut seen = [0usize; 3];
+    for i in (0..flow.x.len()).filter(|&i| flow.walls[i] != 0) {
+        let mut expected = u_water;
+        for (b, plane) in flow.planes.iter().enumerate() {
+            if flow.walls[i] & (1 << b) != 0 {
+                expected[plane.axis] = 0.0;
+            }
+        }
+        if !beside_water[i] {
+            // Dry, or a corner among wall nodes only: no water to take a velocity from.
+            assert_eq!(flow.u[i], stale, "{i}");
+            seen[0] += 1;
+        } else {
+            assert!(
+                (flow.u[i] - expected).norm() < 1e-15,
+                "{i}: {:?}",
+                flow.u[i]
+            );
+            seen[if flow.walls[i].count_ones() == 1 {
+                1
+            } else {
+                2
+            }] += 1;
+        }
+    }
+    println!("wall nodes away from the water, on one plane, on an edge: {seen:?}");
+    assert!(seen.iter().all(|&k| k > 0), "{seen:?}");
+}
