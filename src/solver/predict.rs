@@ -17,6 +17,40 @@ use crate::particles::Particles;
 use nalgebra::Vector2;
 
 impl Solver {
+    /// Slip wall nodes take the water's velocity (before `predict`): each slip wall node of a
+    /// kept triangle with fluid nodes gets their mean velocity (each counted once per
+    /// triangle), the part along its wall kept (`Particles::admissible_velocity`). A wall node
+    /// stands still, so its velocity is the water's at a fixed point; left to its own momentum
+    /// equation it changed by Δt times the acceleration of the water passing it, which misses
+    /// the −Δt (u·∇)u of a fixed point, a term whose mean over a standing wave is not zero, and
+    /// mode-1 sloshing with slip walls grew (as in 3D: `solver3d`, docs/three_d.md). Free slip
+    /// has no normal gradient of the velocity along the wall, so the water beside the node is
+    /// what moves at it. Corner nodes (no tangent) and no-slip walls are left alone.
+    pub(super) fn slip_walls_take_the_water_velocity(&self, particles: &mut Particles) {
+        use crate::particles::NodeKind;
+        let n = particles.len();
+        let mut sum = vec![(Vector2::zeros(), 0usize); n];
+        for t in &self.mesh.triangles {
+            let v = t.map(|i| i as usize);
+            let fluid = |i: &&usize| particles.kind[**i] == NodeKind::Fluid;
+            let total: Vector2<f64> = v.iter().filter(fluid).map(|&j| particles.velocity[j]).sum();
+            let count = v.iter().filter(fluid).count();
+            for &w in &v {
+                if particles.kind[w] == NodeKind::Wall
+                    && particles.wall_tangent[w] != Vector2::zeros()
+                {
+                    sum[w].0 += total;
+                    sum[w].1 += count;
+                }
+            }
+        }
+        for (i, &(total, count)) in sum.iter().enumerate() {
+            if count > 0 {
+                particles.velocity[i] = particles.admissible_velocity(i, total / count as f64);
+            }
+        }
+    }
+
     pub(super) fn predict(&mut self, particles: &Particles, dt: f64) {
         let p = &self.params;
         let n = particles.len();

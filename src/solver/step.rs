@@ -14,7 +14,8 @@
 //!    symbolic factorisation runs on the second core during stages 6–7;
 //! 6. `elements`: areas, gradients (P1 on triangles, MFEM on polygons: `element_set.rs`),
 //!    lumped mass, Smagorinsky μ_e, τ;
-//! 7. `predict`: ũ from momentum without the pressure increment;
+//! 7. `predict`: ũ from momentum without the pressure increment (before it, once per step, the
+//!    slip wall nodes take the velocity of the water beside them);
 //! 8. `assemble`, second part, and `pressure_solve`: (Δt/ρ L + L_τ) pⁿ⁺¹ = −Dũ + Ms +
 //!    γ(Δt/ρ)L pⁿ − Qπⁿ (s the divergence target of stage 4), p = 0 on the free surface,
 //!    strongly or weakly;
@@ -67,6 +68,9 @@ impl Solver {
         });
         drop(tri);
         t.time(Stage::Relax, || self.relax_targets(particles));
+        t.time(Stage::Predict, || {
+            self.slip_walls_take_the_water_velocity(particles)
+        });
         t.time(Stage::Assemble, || self.prepare_pressure(particles));
         let area_before_move = self.mesh.area(&particles.position);
         let remesh_change = self.moved_area.map_or(0.0, |a| area_before_move - a);
