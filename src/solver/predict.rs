@@ -32,9 +32,12 @@ impl Solver {
         let mut sum = vec![(Vector2::zeros(), 0usize); n];
         for t in &self.mesh.triangles {
             let v = t.map(|i| i as usize);
-            let fluid = |i: &&usize| particles.kind[**i] == NodeKind::Fluid;
-            let total: Vector2<f64> = v.iter().filter(fluid).map(|&j| particles.velocity[j]).sum();
-            let count = v.iter().filter(fluid).count();
+            let (total, count) = v
+                .iter()
+                .filter(|&&j| particles.kind[j] == NodeKind::Fluid)
+                .fold((Vector2::zeros(), 0), |(sum, k), &j| {
+                    (sum + particles.velocity[j], k + 1)
+                });
             for &w in &v {
                 if particles.kind[w] == NodeKind::Wall
                     && particles.wall_tangent[w] != Vector2::zeros()

@@ -237,8 +237,8 @@ impl Flow3 {
                     / 6.0
             })
             .sum();
-        self.in_mesh = shape.in_mesh.clone();
-        self.was_free = shape.free_surface.clone();
+        self.in_mesh = std::mem::take(&mut shape.in_mesh);
+        self.was_free = std::mem::take(&mut shape.free_surface);
         self.surface = std::mem::take(&mut shape.surface);
         lap(6);
         let nodes = self.manage_nodes(&mesh, &shape);
@@ -403,12 +403,12 @@ impl Flow3 {
         let mut sum = vec![(Vector3::zeros(), 0usize); self.x.len()];
         for &t in &shape.kept {
             let v = mesh.tets[t as usize].map(|i| i as usize);
-            let fluid: Vector3<f64> = v
+            let (fluid, count) = v
                 .iter()
                 .filter(|&&j| self.walls[j] == 0)
-                .map(|&j| self.u[j])
-                .sum();
-            let count = v.iter().filter(|&&j| self.walls[j] == 0).count();
+                .fold((Vector3::zeros(), 0), |(sum, k), &j| {
+                    (sum + self.u[j], k + 1)
+                });
             for &w in v.iter().filter(|&&w| self.walls[w] != 0) {
                 sum[w].0 += fluid;
                 sum[w].1 += count;
@@ -418,13 +418,20 @@ impl Flow3 {
             if count == 0 {
                 continue;
             }
-            self.u[i] = total / count as f64;
-            for (b, plane) in self.planes.iter().enumerate() {
-                if self.walls[i] & (1 << b) != 0 {
-                    self.u[i][plane.axis] = plane.velocity_m_s;
-                }
+            self.u[i] = self.admissible_velocity(i, total / count as f64);
+        }
+    }
+
+    /// `u` as wall node `i` may move: the components across each of its planes replaced by
+    /// the plane's own velocity (0 but on a piston), so an edge keeps the part along it and a
+    /// corner none.
+    fn admissible_velocity(&self, i: usize, mut u: Vector3<f64>) -> Vector3<f64> {
+        for (b, plane) in self.planes.iter().enumerate() {
+            if self.walls[i] & (1 << b) != 0 {
+                u[plane.axis] = plane.velocity_m_s;
             }
         }
+        u
     }
 
     /// The wall nodes' constraint on the corrected velocity (slip, on a node of the mesh: the
@@ -442,14 +449,12 @@ impl Flow3 {
                 // A dry wall node (in no kept tetrahedron) has no flow to slip with: it moves
                 // with its wall, else it would keep falling under gravity step after step and
                 // bring that speed into the first tetrahedron the rising water gives it.
-                if !self.slip || !in_mesh[i] {
-                    self.u[i] = Vector3::zeros();
-                }
-                for (b, plane) in self.planes.iter().enumerate() {
-                    if mask & (1 << b) != 0 {
-                        self.u[i][plane.axis] = plane.velocity_m_s;
-                    }
-                }
+                let u = if self.slip && in_mesh[i] {
+                    self.u[i]
+                } else {
+                    Vector3::zeros()
+                };
+                self.u[i] = self.admissible_velocity(i, u);
                 continue;
             }
             for k in 0..3 {

@@ -39,10 +39,11 @@ pub struct NodeChanges3 {
 }
 
 impl Flow3 {
-    /// Inserts and removes fluid nodes on the step's kept tetrahedra (`mesh`, `shape`, at the
-    /// moved positions) and renumbers every per-node array; wall nodes keep their indices
+    /// Inserts and removes fluid nodes on the step's kept tetrahedra (`mesh`, `shape.kept`, at
+    /// the moved positions) and renumbers every per-node array; wall nodes keep their indices
     /// when they come before the fluid (as `setup::from_case` seeds them), and the piston's
-    /// band follows them otherwise. `in_mesh`, `was_free` and `surface` must be the step's.
+    /// band follows them otherwise. `in_mesh`, `was_free` and `surface` must already be the
+    /// step's (the α-shape's, moved out of `shape`).
     pub(super) fn manage_nodes(
         &mut self,
         mesh: &Tetrahedralisation,
@@ -57,7 +58,7 @@ impl Flow3 {
             let mut added = Vec::new();
             for (&t, &q) in shape.kept.iter().zip(&shape.kept_quality) {
                 let v = mesh.tets[t as usize];
-                if q < SLIVER_QUALITY || v.iter().any(|&i| shape.free_surface[i as usize]) {
+                if q < SLIVER_QUALITY || v.iter().any(|&i| self.was_free[i as usize]) {
                     continue;
                 }
                 let p = v.map(|i| self.x[i as usize]);
@@ -79,10 +80,7 @@ impl Flow3 {
                     continue;
                 }
                 taken.insert(k);
-                let mean = |f: &dyn Fn(usize) -> Vector3<f64>| {
-                    v.iter().map(|&i| f(i as usize)).sum::<Vector3<f64>>() / 4.0
-                };
-                let u = mean(&|i| self.u[i]);
+                let u = v.iter().map(|&i| self.u[i as usize]).sum::<Vector3<f64>>() / 4.0;
                 let pressure = v.iter().map(|&i| self.p[i as usize]).sum::<f64>() / 4.0;
                 added.push((c, u, pressure));
             }
@@ -99,7 +97,7 @@ impl Flow3 {
         let Some(distance_m) = self.remove_distance_m else {
             return changes;
         };
-        let removable = |i: usize| self.walls[i] == 0 && shape.in_mesh[i] && !shape.free_surface[i];
+        let removable = |i: usize| self.walls[i] == 0 && self.in_mesh[i] && !self.was_free[i];
         let mut drop = vec![false; self.x.len()];
         for &t in &shape.kept {
             let v = mesh.tets[t as usize].map(|i| i as usize);
