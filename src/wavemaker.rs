@@ -416,8 +416,9 @@ impl Wavemaker {
         flume.paddle = Some(self.face(t_s + dt_s, dt_s));
         // A slip wall node under the face's foot or behind it is held at rest, as on a no-slip
         // wall. Its velocity along the bed would be free, and in the thin triangles between
-        // the foot, the bed and the water the continuity equation sets it alone: at the piston's
-        // foot it grew to 40 m/s in 1.8 s (2D, d = 0.25 m, H = 3 cm). In front, it slips again.
+        // the foot, the bed and the water the continuity equation sets it alone: at a piston's
+        // foot it reached 5 m/s and the run diverged at 1.83 s (2D, d = 0.25 m, H = 3 cm). In
+        // front of the face, it slips again.
         let reach_x =
             self.point(0.0, t_s).x.max(self.point(0.0, t_s + dt_s).x) + 0.5 * self.spacing_m;
         for &(i, tangent) in &self.slip_walls {
