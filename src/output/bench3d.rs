@@ -142,7 +142,7 @@ pub fn bench_still_tank(nodes: usize, steps: u64, solver: &str) -> Result<()> {
     let defaults = crate::case::SolverSettings::default();
     flow.insert_radius_m = defaults
         .insert_radius_h
-        .map(|r| r * crate::solver3d::INSERT_RADIUS_3D_OVER_2D * flow.h_m);
+        .map(|r| crate::solver3d::nodes::insert_radius_3d(r, flow.h_m));
     flow.remove_distance_m = defaults.remove_distance_h.map(|d| d * flow.h_m);
     let n = flow.x.len();
     println!(

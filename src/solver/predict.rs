@@ -28,6 +28,14 @@ impl Solver {
     /// what moves at it. Corner nodes (no tangent) and no-slip walls are left alone.
     pub(super) fn slip_walls_take_the_water_velocity(&self, particles: &mut Particles) {
         use crate::particles::NodeKind;
+        // No-slip flumes (every committed 2D case) have nothing to do: no pass over the mesh.
+        if particles
+            .wall_tangent
+            .iter()
+            .all(|t| *t == Vector2::zeros())
+        {
+            return;
+        }
         let n = particles.len();
         let mut sum = vec![(Vector2::zeros(), 0usize); n];
         for t in &self.mesh.triangles {

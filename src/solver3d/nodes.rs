@@ -31,6 +31,11 @@ use nalgebra::Vector3;
 /// The ratio of the 3D insert radius to the 2D one at the same `solver.insert_radius_h`.
 pub const INSERT_RADIUS_3D_OVER_2D: f64 = 1.224_744_871_391_589; // √3 / √2
 
+/// The 3D insert radius, m, for the case's `solver.insert_radius_h` and the spacing `h_m`.
+pub fn insert_radius_3d(insert_radius_h: f64, h_m: f64) -> f64 {
+    insert_radius_h * INSERT_RADIUS_3D_OVER_2D * h_m
+}
+
 /// What the stage did.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct NodeChanges3 {

@@ -128,13 +128,14 @@ pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
     }
     let h = case.particles.spacing_m;
     if let Some(r) = s.insert_radius_h
-        && r * super::INSERT_RADIUS_3D_OVER_2D >= s.alpha
+        && super::nodes::insert_radius_3d(r, 1.0) >= s.alpha
     {
         return Err(refuse(
             "solver.insert_radius_h",
             &format!(
-                "{r} h is {:.3} h in 3D (× √3/√2, see solver3d::nodes), not below solver.alpha =                  {}: tetrahedra would be dropped before they are split",
-                r * super::INSERT_RADIUS_3D_OVER_2D,
+                "{r} h is {:.3} h in 3D (× √3/√2, see solver3d::nodes), not below solver.alpha = \
+                 {}: tetrahedra would be dropped before they are split",
+                super::nodes::insert_radius_3d(r, 1.0),
                 s.alpha
             ),
         ));
@@ -251,7 +252,7 @@ pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
         insert_radius_m: case
             .solver
             .insert_radius_h
-            .map(|r| r * super::INSERT_RADIUS_3D_OVER_2D * h),
+            .map(|r| super::nodes::insert_radius_3d(r, h)),
         remove_distance_m: case.solver.remove_distance_h.map(|d| d * h),
     })
 }

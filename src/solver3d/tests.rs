@@ -383,7 +383,7 @@ fn dry_wall_nodes_of_slip_walls_stay_at_rest() {
 fn tank_with_nodes(h: f64) -> Flow3 {
     let mut flow = still_tank(8, 10, 6, h, 0.0);
     flow.gravity_m_s2 = Vector3::zeros();
-    flow.insert_radius_m = Some(0.9 * INSERT_RADIUS_3D_OVER_2D * h);
+    flow.insert_radius_m = Some(nodes::insert_radius_3d(0.9, h));
     flow.remove_distance_m = Some(0.35 * h);
     flow
 }
