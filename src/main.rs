@@ -286,12 +286,12 @@ fn cmd_check(path: &Path, set: &[String]) -> Result<()> {
     }
     let e = case.size_estimate();
     println!(
-        "{}: valid; about {:.0} fluid particles and {:.0} wall nodes at h = {} m (limit {} in all), \
+        "{}: valid; about {:.0} fluid particles and {:.0} wall nodes at h = {} (limit {} in all), \
          {:.0} frames every {} s to t = {} s, at least {:.0} steps (Δt ≤ {} s)",
         case.name,
         e.fluid,
         e.walls,
-        case.particles.spacing_m,
+        spacing_label(&case),
         surflab::case::max_nodes(),
         e.frames,
         case.output.interval_s,
@@ -300,6 +300,15 @@ fn cmd_check(path: &Path, set: &[String]) -> Result<()> {
         case.time.dt_max_s
     );
     Ok(())
+}
+
+/// "0.02 m", or "0.02 m, 0.01 m from x = 6 m" with `particles.refine`.
+fn spacing_label(case: &Case) -> String {
+    let h = case.particles.spacing_m;
+    match &case.particles.refine {
+        None => format!("{h} m"),
+        Some(r) => format!("{h} m, {} m from x = {} m", r.spacing_m, r.x_m),
+    }
 }
 
 fn cmd_run(
@@ -313,11 +322,11 @@ fn cmd_run(
     let case = load(path, set, until)?;
     let out_dir = out.unwrap_or_else(|| PathBuf::from("runs").join(&case.name));
     eprintln!(
-        "surflab: {} — {} to t = {} s, h = {} m, output to {}",
+        "surflab: {} — {} to t = {} s, h = {}, output to {}",
         case.name,
         path.display(),
         case.time.end_s,
-        case.particles.spacing_m,
+        spacing_label(&case),
         out_dir.display()
     );
     let opts = RunOptions {

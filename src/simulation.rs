@@ -58,8 +58,7 @@ impl Simulation {
             return Err(SetupError::ThreeD(width));
         }
         let mut flume = Flume::from_case(case);
-        let h = case.particles.spacing_m;
-        let walls = flume.wall_nodes_with_tangents(h);
+        let walls = flume.wall_nodes_with_tangents(&case.particles.spacing());
         let fluid = geometry::seed_fluid(case, &flume);
         let mut positions: Vec<_> = walls.iter().map(|(p, _)| *p).collect();
         let wavemaker = Wavemaker::from_case(case, &flume, positions.len()).transpose()?;
@@ -75,8 +74,10 @@ impl Simulation {
             }
         }
         let rho_g = case.fluid.density_kg_m3 * case.fluid.gravity_m_s2;
+        let spacing = case.particles.spacing();
         for i in 0..particles.len() {
             let x = particles.position[i];
+            let h = spacing.at(x.x);
             let level = case
                 .water
                 .iter()
@@ -136,18 +137,28 @@ impl Simulation {
     /// The Δt the policy asks for, shortened so that the step lands on `until_s`.
     pub fn next_dt(&self, until_s: f64) -> f64 {
         let t = &self.case.time;
-        let surface_dt =
-            t.surface_wave_dt_s(self.case.particles.spacing_m, self.case.fluid.gravity_m_s2);
+        // The finest spacing sets the surface-wave bound; each particle's own h(x) its CFL step.
+        let spacing = self.solver.params.spacing;
+        let surface_dt = t.surface_wave_dt_s(spacing.finest_m(), self.case.fluid.gravity_m_s2);
         let dt = match t.dt_policy {
             // Equal substeps, so the steps still land on multiples of the fixed Δt.
             DtPolicy::Fixed => t.dt_max_s / (t.dt_max_s / surface_dt).ceil().max(1.0),
             DtPolicy::Cfl => {
-                let u_max = (0..self.particles.len())
-                    .filter(|&i| self.particles.is_fluid(i))
-                    .map(|i| self.particles.velocity[i].norm_squared())
-                    .fold(0.0, f64::max)
-                    .sqrt();
-                let cfl_dt = t.cfl * self.case.particles.spacing_m / u_max.max(1e-12);
+                let p = &self.particles;
+                let fluid = (0..p.len()).filter(|&i| p.is_fluid(i));
+                let cfl_dt = if spacing.refined_from_m().is_finite() {
+                    // The largest |u|/h(x) over the fluid particles.
+                    let rate = fluid
+                        .map(|i| p.velocity[i].norm() / spacing.at(p.position[i].x))
+                        .fold(0.0, f64::max);
+                    t.cfl / rate.max(1e-12 / spacing.coarsest_m())
+                } else {
+                    let u_max = fluid
+                        .map(|i| p.velocity[i].norm_squared())
+                        .fold(0.0, f64::max)
+                        .sqrt();
+                    t.cfl * spacing.coarsest_m() / u_max.max(1e-12)
+                };
                 cfl_dt.min(surface_dt).clamp(t.dt_min_s, t.dt_max_s)
             }
         };

@@ -241,7 +241,8 @@ impl Wavemaker {
             Ok(m) => m,
             Err(e) => return Some(Err(e)),
         };
-        let h = case.particles.spacing_m;
+        // The spacing where the paddle stands.
+        let h = case.particles.spacing().at(w.x_m);
         let hinge = Vector2::new(w.x_m, flume.bed_y(w.x_m));
         let length_m = flume.height_m - hinge.y;
         let n = (length_m / h).round().max(1.0) as usize;
@@ -277,7 +278,7 @@ impl Wavemaker {
             reflection,
             reflection_design,
             slip_walls: if case.flume.walls == crate::case::WallCondition::Slip {
-                let walls = flume.wall_nodes_with_tangents(h);
+                let walls = flume.wall_nodes_with_tangents(&case.particles.spacing());
                 (walls.into_iter().enumerate())
                     .filter(|(_, (_, t))| *t != Vector2::zeros())
                     .map(|(i, (_, t))| (i, t))

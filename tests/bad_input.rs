@@ -28,7 +28,7 @@ fn run_with(name: &str, text: &str, extra: &[&str]) -> (i32, String) {
 
 #[test]
 fn each_bad_case_is_refused_with_its_reason() {
-    let cases: [(&str, String, &[&str], &[&str]); 10] = [
+    let cases: [(&str, String, &[&str], &[&str]); 14] = [
         (
             "unknown_field",
             format!("{GOOD}[solver]\nalpah = 1.3\n"),
@@ -83,6 +83,30 @@ fn each_bad_case_is_refused_with_its_reason() {
             GOOD.into(),
             &["--set", "solver.alpha=0.9"],
             &["solver.alpha"],
+        ),
+        (
+            "refine_coarser",
+            format!("{GOOD}[particles.refine]\nx_m = 0.6\nspacing_m = 0.05\n"),
+            &[],
+            &["particles.refine.spacing_m", "not finer"],
+        ),
+        (
+            "refine_outside",
+            format!("{GOOD}[particles.refine]\nx_m = 1.5\nspacing_m = 0.02\n"),
+            &[],
+            &["particles.refine.x_m", "inside the flume"],
+        ),
+        (
+            "refine_unknown_field",
+            format!("{GOOD}[particles.refine]\nx_m = 0.6\nspacing = 0.02\n"),
+            &[],
+            &["spacing", "unknown field"],
+        ),
+        (
+            "refine_sharp",
+            format!("{GOOD}[particles.refine]\nx_m = 0.6\nspacing_m = 0.03\ntransition_m = 0.01\n"),
+            &[],
+            &["particles.refine.transition_m", "two coarse spacings"],
         ),
     ];
     for (name, text, extra, needles) in cases {

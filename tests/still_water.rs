@@ -37,6 +37,27 @@ fn still_water_with_edt_polygons() {
     assert!(polygons > 300, "only {polygons} polygons at the end");
 }
 
+/// `particles.refine`: the spacing falls from 2 cm at x = 0.4 m to 1 cm at 0.6 m and stays
+/// there; the graded lattice and wall nodes stay at rest and hydrostatic, and the α-shape,
+/// insertion and removal, judging every length by the local spacing, leave the nodes alone.
+#[test]
+fn still_water_with_a_refined_stretch() {
+    let overrides = [
+        "particles.refine.x_m=0.6",
+        "particles.refine.spacing_m=0.01",
+    ];
+    let case = common::case("still_water.toml", &overrides);
+    let start = Simulation::new(&case).unwrap().particles.len();
+    check("refined to 1 cm from x = 0.6 m", &overrides);
+    let mut sim = Simulation::new(&case).unwrap();
+    sim.advance_to(0.5, |_, _| {}).expect("runs");
+    assert_eq!(
+        sim.particles.len(),
+        start,
+        "no node inserted or removed at rest"
+    );
+}
+
 /// Runs the tank and checks the bars; returns the EDT polygons of the last mesh.
 fn check(label: &str, overrides: &[&str]) -> usize {
     let case = common::case("still_water.toml", overrides);

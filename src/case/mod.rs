@@ -35,7 +35,7 @@ pub use fluid::Fluid;
 pub use flume::{Beach, Flume, WallCondition, polyline_y};
 pub use output::OutputSettings;
 pub use overrides::apply_override;
-pub use particles::ParticleSettings;
+pub use particles::{ParticleSettings, Refinement, Spacing};
 pub use size::{DEFAULT_MAX_NODES, SizeEstimate, max_nodes, set_max_nodes};
 pub use solver::{PressureSolver, SolverSettings, TauFormula};
 pub use surf::SurfSettings;

@@ -92,6 +92,30 @@ impl Case {
             walls += (f.height_m / h).ceil() + 1.0;
         }
         let (mut fluid, mut walls) = (fluid, walls);
+        let spacing = self.particles.spacing();
+        let x_refined = spacing.refined_from_m().max(0.0);
+        if x_refined < f.length_m {
+            // A refined stretch: on top of the coarse count, its water (above the bed, from 200
+            // samples) as if all of it were at the fine spacing.
+            let hf = spacing.finest_m();
+            fluid += self
+                .water
+                .iter()
+                .map(|w| {
+                    let (x0, x1) = (w.x_start_m.max(x_refined), w.x_end_m);
+                    if x1 <= x0 {
+                        return 0.0;
+                    }
+                    let dx = (x1 - x0) / 200.0;
+                    let level = w.depth_m + w.surface_amplitude_m.abs();
+                    let area: f64 = (0..200)
+                        .map(|k| (level - f.bed_y_at(x0 + (k as f64 + 0.5) * dx)).max(0.0) * dx)
+                        .sum();
+                    area / (hf * hf) + (x1 - x0) / hf + 1.0
+                })
+                .sum::<f64>();
+            walls += (f.length_m - x_refined + f.height_m) / hf * 1.5;
+        }
         if let Some(width) = width_m {
             // The 3D tank: every line of nodes repeated across the width, and the two side
             // walls filled with wall nodes.
@@ -205,7 +229,7 @@ mod tests {
         let e = c.size_estimate();
         let flume = crate::geometry::Flume::from_case(&c);
         let fluid = crate::geometry::seed_fluid(&c, &flume).len() as f64;
-        let walls = flume.wall_nodes_with_tangents(c.particles.spacing_m).len() as f64;
+        let walls = flume.wall_nodes_with_tangents(&c.particles.spacing()).len() as f64;
         println!("estimate {e:?}; seeded {fluid} fluid, {walls} wall");
         assert!(e.fluid >= fluid && e.fluid <= 1.5 * fluid);
         assert!(e.walls >= walls && e.walls <= walls + 2.0);

@@ -5,7 +5,7 @@
 //! flat by default) and up the right wall. Walking along it, the fluid is on the left, so the
 //! left normal n = (−dy, dx)/|d| of each segment points into the water.
 
-use crate::case::Case;
+use crate::case::{Case, Spacing};
 use nalgebra::Vector2;
 
 /// One straight piece of the solid boundary, with its unit normal into the fluid.
@@ -110,10 +110,11 @@ impl Flume {
             .fold(f64::INFINITY, f64::min)
     }
 
-    /// Wall nodes along the whole outline at about `h` spacing, corners included once, each
-    /// with the unit tangent of the segment it stands on; the tangent is zero at the ends of the
-    /// outline and at corners, where two segments meet at an angle (a node there cannot slide).
-    pub fn wall_nodes_with_tangents(&self, h: f64) -> Vec<(Vector2<f64>, Vector2<f64>)> {
+    /// Wall nodes along the whole outline at about the local spacing h(x), corners included
+    /// once, each with the unit tangent of the segment it stands on; the tangent is zero at the
+    /// ends of the outline and at corners, where two segments meet at an angle (a node there
+    /// cannot slide).
+    pub fn wall_nodes_with_tangents(&self, spacing: &Spacing) -> Vec<(Vector2<f64>, Vector2<f64>)> {
         let mut nodes = vec![(self.outline[0], Vector2::zeros())];
         for w in self.outline.windows(2) {
             let len = (w[1] - w[0]).norm();
@@ -121,7 +122,7 @@ impl Flume {
                 continue;
             }
             let tangent = (w[1] - w[0]) / len;
-            let n = (len / h).round().max(1.0) as usize;
+            let fractions = graded_fractions(len, spacing, |s| w[0].x + s * (w[1].x - w[0].x));
             // The segment's start node is the previous segment's end: keep its tangent only if
             // both segments are in line.
             if let Some(last) = nodes.last_mut()
@@ -130,8 +131,8 @@ impl Flume {
             {
                 last.1 = Vector2::zeros();
             }
-            for k in 1..=n {
-                nodes.push((w[0] + (w[1] - w[0]) * (k as f64 / n as f64), tangent));
+            for &s in &fractions[1..] {
+                nodes.push((w[0] + (w[1] - w[0]) * s, tangent));
             }
         }
         // The two ends of the outline (the wall tops) and every corner are fixed.
@@ -190,23 +191,63 @@ impl Flume {
     }
 }
 
-/// Fluid particles on a lattice inside the water regions: for each region the spacing is
-/// adjusted so that whole numbers of cells fit its width, and each column is divided evenly up
-/// to the local initial surface (flat, or a standing-wave shape); points closer than h/2 to the
-/// solid (where wall nodes stand), to the paddle or behind it, or to an already seeded particle
-/// are skipped.
+/// The fractions s_k = k/n-like of a segment of length `len` (0 and 1 included) at which nodes
+/// stand so that their spacing follows h(x(s)): equal steps of ∫ ds / h. Where h is uniform
+/// along the segment, exactly k/n with n = round(len/h).
+fn graded_fractions(len: f64, spacing: &Spacing, x_at: impl Fn(f64) -> f64) -> Vec<f64> {
+    let (x0, x1) = (x_at(0.0), x_at(1.0));
+    if x0.max(x1) <= spacing.refined_from_m() {
+        let n = (len / spacing.coarsest_m()).round().max(1.0) as usize;
+        return (0..=n).map(|k| k as f64 / n as f64).collect();
+    }
+    // ∫ ds / h sampled at a quarter of the finest spacing, then inverted.
+    let samples = ((4.0 * len / spacing.finest_m()).ceil() as usize).max(1);
+    let mut tau = Vec::with_capacity(samples + 1);
+    tau.push(0.0);
+    for k in 0..samples {
+        let s_mid = (k as f64 + 0.5) / samples as f64;
+        let ds = len / samples as f64;
+        tau.push(tau[k] + ds / spacing.at(x_at(s_mid)));
+    }
+    let n = tau[samples].round().max(1.0) as usize;
+    let mut fractions = Vec::with_capacity(n + 1);
+    let mut k = 0;
+    for j in 0..=n {
+        let target = tau[samples] * j as f64 / n as f64;
+        while k + 1 < samples && tau[k + 1] < target {
+            k += 1;
+        }
+        let w = ((target - tau[k]) / (tau[k + 1] - tau[k])).clamp(0.0, 1.0);
+        fractions.push(((k as f64 + w) / samples as f64).clamp(0.0, 1.0));
+    }
+    fractions[0] = 0.0;
+    fractions[n] = 1.0;
+    fractions
+}
+
+/// Fluid particles on a lattice inside the water regions: for each region the column spacing
+/// follows h(x) with whole numbers of cells across its width, and each column is divided
+/// evenly up to the local initial surface (flat, or a standing-wave shape) in cells of about
+/// h(x); points closer than h/2 to the solid (where wall nodes stand), to the paddle or behind
+/// it, or to an already seeded particle are skipped.
 pub fn seed_fluid(case: &Case, flume: &Flume) -> Vec<Vector2<f64>> {
-    let h = case.particles.spacing_m;
+    let spacing = case.particles.spacing();
     let paddle_x = case.wavemaker.as_ref().map_or(f64::NEG_INFINITY, |w| w.x_m);
     let mut points: Vec<Vector2<f64>> = Vec::new();
-    let mut grid = SpatialHash::new(h);
+    let mut grid = SpatialHash::new(spacing.coarsest_m());
     for w in &case.water {
         let width = w.x_end_m - w.x_start_m;
-        let nx = (width / h).round().max(1.0) as usize;
-        let dx = width / nx as f64;
-        let ny = (w.depth_m / h).round().max(1.0) as usize;
-        for i in 0..=nx {
-            let x = w.x_start_m + i as f64 * dx;
+        let columns = graded_fractions(width, &spacing, |s| w.x_start_m + s * width);
+        let nx = columns.len() - 1;
+        for (i, s) in columns.into_iter().enumerate() {
+            // Uniform: the lattice's abscissae as x₀ + i dx (the tests' figures are these).
+            let x = if w.x_end_m <= spacing.refined_from_m() {
+                w.x_start_m + i as f64 * (width / nx as f64)
+            } else {
+                w.x_start_m + s * width
+            };
+            let h = spacing.at(x);
+            let ny = (w.depth_m / h).round().max(1.0) as usize;
             let dy = w.level_at(x) / ny as f64;
             for j in 0..=ny {
                 let y = j as f64 * dy;
@@ -288,14 +329,64 @@ mod tests {
         // 21 × 11 lattice minus the bottom row and the two wall columns.
         assert_eq!(fluid.len(), 19 * 10);
         assert!(fluid.iter().all(|p| f.distance_to_solid(*p) >= 0.049));
-        let walls = f.wall_nodes_with_tangents(0.05);
+        let walls = f.wall_nodes_with_tangents(&Spacing::uniform(0.05));
         assert_eq!(walls.len(), 16 + 20 + 16 + 1);
+    }
+
+    /// `[particles.refine]`: 5 cm to x = 0.4 m, 2.5 cm from x = 0.6 m, graded between.
+    #[test]
+    fn a_refined_stretch_is_seeded_and_walled_at_the_local_spacing() {
+        let mut case = tank();
+        case.particles.refine = Some(crate::case::Refinement {
+            x_m: 0.6,
+            spacing_m: 0.025,
+            transition_m: Some(0.2),
+        });
+        let spacing = case.particles.spacing();
+        let f = Flume::from_case(&case);
+        let walls = f.wall_nodes_with_tangents(&spacing);
+        let mut bed: Vec<f64> = walls
+            .iter()
+            .filter(|(p, _)| p.y == 0.0)
+            .map(|(p, _)| p.x)
+            .collect();
+        bed.sort_by(f64::total_cmp);
+        assert_eq!((bed[0], bed[bed.len() - 1]), (0.0, 1.0), "the corners stay");
+        for w in bed.windows(2) {
+            let (mid, gap) = (0.5 * (w[0] + w[1]), w[1] - w[0]);
+            let h = spacing.at(mid);
+            assert!(
+                (gap / h - 1.0).abs() < 0.1,
+                "bed gap {gap} at x = {mid}, h(x) = {h}"
+            );
+        }
+        let fluid = seed_fluid(&case, &f);
+        let nearest = |p: &Vector2<f64>| {
+            fluid
+                .iter()
+                .filter(|q| *q != p)
+                .map(|q| (q - p).norm())
+                .fold(f64::INFINITY, f64::min)
+        };
+        for p in &fluid {
+            let d = nearest(p);
+            if p.x < 0.35 {
+                assert!((d / 0.05 - 1.0).abs() < 0.05, "coarse: {d} at {p:?}");
+            } else if p.x > 0.65 {
+                assert!((d / 0.025 - 1.0).abs() < 0.05, "fine: {d} at {p:?}");
+            } else {
+                assert!(d > 0.02 && d < 0.055, "graded: {d} at {p:?}");
+            }
+        }
+        // Uniform where not refined: the same nodes as without the refinement.
+        let uniform = Flume::from_case(&tank()).wall_nodes_with_tangents(&Spacing::uniform(0.05));
+        assert_eq!(walls[..16], uniform[..16], "the left wall is untouched");
     }
 
     #[test]
     fn wall_tangents_follow_the_segments_and_corners_are_fixed() {
         let f = Flume::from_case(&tank());
-        let nodes = f.wall_nodes_with_tangents(0.05);
+        let nodes = f.wall_nodes_with_tangents(&Spacing::uniform(0.05));
         for (p, t) in &nodes {
             let corner = (p.x == 0.0 || p.x == 1.0) && (p.y == 0.0 || p.y == 0.8);
             if corner {

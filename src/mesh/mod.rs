@@ -31,6 +31,7 @@
 
 pub mod edt;
 
+use crate::case::Spacing;
 use crate::geometry::PaddleFace;
 use crate::particles::{NodeKind, Particles};
 use nalgebra::Vector2;
@@ -253,8 +254,8 @@ pub struct ShapeParams {
     pub alpha_boundary: f64,
     /// δ of the EDT merge (0: plain Delaunay triangles).
     pub delta: f64,
-    /// The particle spacing h, m.
-    pub spacing_m: f64,
+    /// The particle spacing h(x), m: each triangle is judged against α h at its centroid.
+    pub spacing: Spacing,
 }
 
 /// Stage 2: the α-shape, the all-wall filter and the free surface, written into `mesh`.
@@ -272,10 +273,9 @@ pub fn alpha_shape(
     paddle: Option<&PaddleFace>,
     mesh: &mut Mesh,
 ) {
-    let (alpha, h) = (shape.alpha, shape.spacing_m);
+    let alpha = shape.alpha;
     let n = particles.len();
-    let max_r2 = (alpha * h) * (alpha * h);
-    let max_r2_boundary = (shape.alpha_boundary.min(alpha) * h).powi(2);
+    let alpha_b = shape.alpha_boundary.min(alpha);
     mesh.triangles.clear();
     // The polygons' vectors are reused: `used` entries are rewritten, the rest dropped below.
     let mut used = 0;
@@ -347,18 +347,18 @@ pub fn alpha_shape(
         if is_wall(a) && is_wall(b) && is_wall(cc) && !c.nodes.iter().any(|&i| wetted[i as usize]) {
             continue;
         }
-        if let Some(face_line) = paddle {
-            // Nothing behind the paddle is water.
-            let centroid = c
-                .nodes
-                .iter()
-                .map(|&i| particles.position[i as usize])
-                .sum::<Vector2<f64>>()
-                / 3.0;
-            if face_line.distance(centroid) < 0.0 {
-                continue;
-            }
+        let centroid = c
+            .nodes
+            .iter()
+            .map(|&i| particles.position[i as usize])
+            .sum::<Vector2<f64>>()
+            / 3.0;
+        // Nothing behind the paddle is water.
+        if paddle.is_some_and(|face_line| face_line.distance(centroid) < 0.0) {
+            continue;
         }
+        let h = shape.spacing.at(centroid.x);
+        let (max_r2, max_r2_boundary) = ((alpha * h).powi(2), (alpha_b * h).powi(2));
         if r2 >= max_r2 {
             continue;
         }

@@ -6,7 +6,7 @@ fn shape(alpha: f64, h: f64) -> ShapeParams {
         alpha,
         alpha_boundary: 1.0,
         delta: 0.0,
-        spacing_m: h,
+        spacing: crate::case::Spacing::uniform(h),
     }
 }
 
@@ -42,6 +42,33 @@ fn a_block_of_water_meshes_to_its_area_with_the_top_free() {
     }
     let (_, count) = mesh.components(p.len());
     assert_eq!(count, 1);
+}
+
+/// With a local spacing each triangle is judged against α h at its centroid: the same lattice
+/// triangles (R = 0.71 × 0.1 m) pass α h = 0.12 m where h = 0.1 m and fail α h = 0.06 m where
+/// the spacing asked for is 0.05 m.
+#[test]
+fn the_alpha_test_takes_the_local_spacing() {
+    let h = 0.1;
+    let p = square_block(10, h);
+    let tri = triangulate(&p, 1.3 * h, false).unwrap();
+    let settings = crate::case::ParticleSettings {
+        spacing_m: h,
+        refine: Some(crate::case::Refinement {
+            x_m: 0.55,
+            spacing_m: 0.05,
+            transition_m: Some(0.1),
+        }),
+    };
+    let mut refined = shape(1.2, h);
+    refined.spacing = settings.spacing();
+    let mut mesh = Mesh::default();
+    alpha_shape(&tri, &p, &refined, None, &mut mesh);
+    let centroid_x = |t: &[u32; 3]| t.iter().map(|&i| p.position[i as usize].x).sum::<f64>() / 3.0;
+    let kept: Vec<f64> = mesh.triangles.iter().map(centroid_x).collect();
+    // The left 0.4 m: 4 columns of 10 cells, two triangles each.
+    assert_eq!(kept.iter().filter(|&&x| x < 0.4).count(), 80);
+    assert!(kept.iter().all(|&x| x < 0.5), "{kept:?}");
 }
 
 /// The triangles as sorted node triples, in sorted order.

@@ -546,7 +546,7 @@ pub(super) mod tests {
             alpha: 1.3,
             alpha_boundary: 1.3,
             delta,
-            spacing_m: h,
+            spacing: crate::case::Spacing::uniform(h),
         };
         let tri = triangulate(&p, shape.alpha * h, false).unwrap();
         let mut mesh = Mesh::default();

@@ -20,7 +20,7 @@ mod step;
 mod surface;
 mod volume;
 
-use crate::case::{Case, DtPolicy, Fluid, ParticleSettings, SolverSettings, TimeSettings};
+use crate::case::{Case, DtPolicy, Fluid, ParticleSettings, SolverSettings, Spacing, TimeSettings};
 use crate::mesh::{Mesh, MeshError};
 use nalgebra::Vector2;
 
@@ -38,13 +38,12 @@ pub struct SolverParams {
     pub density_kg_m3: f64,
     pub viscosity_pa_s: f64,
     pub gravity_m_s2: Vector2<f64>,
-    /// Particle spacing h, m.
+    /// Particle spacing h, m (the coarsest, where a case refines part of the flume).
     pub spacing_m: f64,
-    /// Closest approach of a fluid particle to the solid, m (`wall_margin_h` h).
-    pub wall_margin_m: f64,
-    /// Robin length of the weak free-surface condition in m (`weak_surface_length_h` h);
-    /// `None`: strong p = 0.
-    pub weak_surface_length_m: Option<f64>,
+    /// The local spacing h(x) (`particles.refine`); uniform h without refinement. The lengths
+    /// the settings give in units of h (α, insertion, removal, merging, wall margin, Robin
+    /// length) are taken in units of the spacing where they are measured.
+    pub spacing: Spacing,
     /// Smallest Δt the solver may fall back to when a step would invert elements.
     pub dt_min_s: f64,
     /// May the solver shorten Δt on its own (CFL policy) when a step would invert elements?
@@ -63,7 +62,20 @@ impl SolverParams {
     /// The largest circumradius the α-shape keeps, α h (boundary triangles use the smaller
     /// α_b h), so the triangulation needs to report nothing larger.
     pub fn alpha_radius_m(&self) -> f64 {
-        self.settings.alpha * self.spacing_m
+        self.settings.alpha * self.spacing.coarsest_m()
+    }
+
+    /// Closest approach of a fluid particle at `x_m` to the solid, m (`wall_margin_h` h(x)).
+    pub fn wall_margin_m(&self, x_m: f64) -> f64 {
+        self.settings.wall_margin_h * self.spacing.at(x_m)
+    }
+
+    /// Robin length of the weak free-surface condition at `x_m`, m (`weak_surface_length_h`
+    /// h(x)); `None`: strong p = 0.
+    pub fn weak_surface_length_m(&self, x_m: f64) -> Option<f64> {
+        self.settings
+            .weak_surface_length_h
+            .map(|l| l * self.spacing.at(x_m))
     }
 
     /// The α-shape's and the EDT's parameters.
@@ -72,7 +84,7 @@ impl SolverParams {
             alpha: self.settings.alpha,
             alpha_boundary: self.settings.alpha_boundary,
             delta: self.settings.delta,
-            spacing_m: self.spacing_m,
+            spacing: self.spacing,
         }
     }
 
@@ -102,8 +114,7 @@ impl SolverParams {
             viscosity_pa_s: fluid.viscosity_pa_s,
             gravity_m_s2: Vector2::new(0.0, -fluid.gravity_m_s2),
             spacing_m: particles.spacing_m,
-            wall_margin_m: s.wall_margin_h * particles.spacing_m,
-            weak_surface_length_m: s.weak_surface_length_h.map(|l| l * particles.spacing_m),
+            spacing: particles.spacing(),
             dt_min_s: time.dt_min_s,
             adaptive_dt: time.dt_policy == DtPolicy::Cfl,
             absorber: None,

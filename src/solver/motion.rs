@@ -30,7 +30,8 @@ impl Solver {
     pub(super) fn would_invert(&self, particles: &Particles, dt: f64) -> bool {
         let x = &particles.position;
         let u = &self.u_new;
-        let min_area = 0.01 * self.params.spacing_m * self.params.spacing_m;
+        let h_min = self.params.spacing.finest_m();
+        let min_area = 0.01 * h_min * h_min;
         self.mesh.triangles.iter().any(|t| {
             if crate::fem::triangle_area(x, t).abs() < min_area {
                 return false;
@@ -81,7 +82,6 @@ impl Solver {
         flume: &Flume,
         dt: f64,
     ) -> Result<usize, StepError> {
-        let margin = self.params.wall_margin_m;
         let midpoint = self
             .params
             .settings
@@ -127,6 +127,7 @@ impl Solver {
                 None => u,
             };
             let mut x = particles.position[i] + dt * step;
+            let margin = self.params.wall_margin_m(x.x);
             if flume.guard(&mut x, &mut u, margin) {
                 guarded += 1;
             }

@@ -39,12 +39,13 @@ pub struct NodeChanges {
 
 impl Solver {
     pub(super) fn manage_nodes(&mut self, particles: &mut Particles) -> NodeChanges {
-        let h = self.params.spacing_m;
+        // h(x): the local spacing, at a triangle's centroid or an edge's midpoint.
+        let spacing = self.params.spacing;
         let insert_r_h = self.params.settings.insert_radius_h;
         let x = &particles.position;
         let mut added: Vec<NewNode> = Vec::new();
         let mut taken = std::collections::HashSet::new();
-        let cell = 0.5 * h;
+        let cell = 0.5 * spacing.finest_m();
         for t in &self.mesh.triangles {
             let [a, b, c] = t.map(|i| i as usize);
             let fs = &self.mesh.free_surface;
@@ -57,10 +58,10 @@ impl Solver {
                 continue;
             }
             let r = (pb - pa).norm() * (pc - pb).norm() * (pa - pc).norm() / (4.0 * area);
-            if insert_r_h.is_none_or(|r_h| r <= r_h * h) {
+            let centroid = (pa + pb + pc) / 3.0;
+            if insert_r_h.is_none_or(|r_h| r <= r_h * spacing.at(centroid.x)) {
                 continue;
             }
-            let centroid = (pa + pb + pc) / 3.0;
             let key = (
                 (centroid.x / cell).floor() as i64,
                 (centroid.y / cell).floor() as i64,
@@ -87,18 +88,21 @@ impl Solver {
 
         let n = particles.len();
         let mut drop = vec![false; n];
-        let min_d2 = self
-            .params
-            .settings
-            .remove_distance_h
-            .map_or(0.0, |d| (d * h).powi(2));
+        let remove_h = self.params.settings.remove_distance_h;
+        // The square of d h(x) at the middle of the edge i–j.
+        let within = |d_h: Option<f64>, i: usize, j: usize| {
+            d_h.is_some_and(|d| {
+                let h = spacing.at(0.5 * (x[i].x + x[j].x));
+                (x[i] - x[j]).norm_squared() < (d * h).powi(2)
+            })
+        };
         let removable = |i: usize, mesh: &crate::mesh::Mesh| {
             particles.kind[i] == NodeKind::Fluid && mesh.in_mesh[i] && !mesh.free_surface[i]
         };
         for t in &self.mesh.triangles {
             for k in 0..3 {
                 let (i, j) = (t[k] as usize, t[(k + 1) % 3] as usize);
-                if drop[i] || drop[j] || (x[i] - x[j]).norm_squared() >= min_d2 {
+                if drop[i] || drop[j] || !within(remove_h, i, j) {
                     continue;
                 }
                 if removable(j, &self.mesh) {
@@ -109,13 +113,9 @@ impl Solver {
             }
         }
         // Colliding surface particles: merge each close pair into its midpoint.
-        let merge_d2 = self
-            .params
-            .settings
-            .merge_surface_distance_h
-            .map_or(0.0, |d| (d * h).powi(2));
+        let merge_h = self.params.settings.merge_surface_distance_h;
         let mut moved: Vec<(usize, Vector2<f64>, Vector2<f64>)> = Vec::new();
-        if merge_d2 > 0.0 {
+        if merge_h.is_some() {
             let surface = |i: usize| {
                 particles.kind[i] == NodeKind::Fluid
                     && self.mesh.in_mesh[i]
@@ -127,9 +127,7 @@ impl Solver {
                     if drop[i] || drop[j] || !surface(i) || !surface(j) {
                         continue;
                     }
-                    if (x[i] - x[j]).norm_squared() >= merge_d2
-                        || moved.iter().any(|m| m.0 == i || m.0 == j)
-                    {
+                    if !within(merge_h, i, j) || moved.iter().any(|m| m.0 == i || m.0 == j) {
                         continue;
                     }
                     drop[j] = true;

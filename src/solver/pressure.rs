@@ -477,7 +477,7 @@ impl Solver {
         if !self.mesh.free_surface[i] {
             return false;
         }
-        if !(self.params.weak_surface_length_m.is_some() && particles.is_fluid(i)) {
+        if !(self.params.settings.weak_surface_length_h.is_some() && particles.is_fluid(i)) {
             return true;
         }
         let interior =
@@ -493,9 +493,10 @@ impl Solver {
     /// (Δt/ρ + τ_e) ∫ N_i p / λ, lumped (ℓ/2 per node), so that the boundary flux of the
     /// Poisson operator meets ∂p/∂n + p/λ = 0.
     fn add_weak_surface(&mut self, particles: &Particles, dt: f64) {
-        let Some(lambda) = self.params.weak_surface_length_m else {
+        if self.params.settings.weak_surface_length_h.is_none() {
             return;
-        };
+        }
+        let params = &self.params;
         let rho = self.params.density_kg_m3;
         let mesh = &self.mesh;
         let sys = &mut self.pressure;
@@ -506,6 +507,10 @@ impl Solver {
                 continue;
             }
             let len = (particles.position[a] - particles.position[b]).norm();
+            let mid_x = 0.5 * (particles.position[a].x + particles.position[b].x);
+            let lambda = params
+                .weak_surface_length_m(mid_x)
+                .expect("the weak condition is on");
             let tau = self.tau_e[self.cells.element_of_triangle(k as usize)];
             let w = (dt / rho + tau) * len / (2.0 * lambda);
             for i in [a, b] {

@@ -58,12 +58,12 @@ impl Solver {
         }
         let cap = MAX_OFFSET_H * self.params.spacing_m;
         let offset = (missing / length).clamp(-cap, cap);
-        let margin = self.params.wall_margin_m;
         for i in 0..n {
             let norm = normal[i].norm();
             if norm > 0.0 {
                 let mut p = particles.position[i] + offset / norm * normal[i];
                 let mut u = particles.velocity[i];
+                let margin = self.params.wall_margin_m(p.x);
                 flume.guard(&mut p, &mut u, margin);
                 particles.position[i] = p;
                 particles.velocity[i] = u;
