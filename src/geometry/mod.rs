@@ -191,9 +191,9 @@ impl Flume {
     }
 }
 
-/// The fractions s_k = k/n-like of a segment of length `len` (0 and 1 included) at which nodes
-/// stand so that their spacing follows h(x(s)): equal steps of ∫ ds / h. Where h is uniform
-/// along the segment, exactly k/n with n = round(len/h).
+/// Where along a segment of length `len` nodes stand (as fractions of it, 0 and 1 included) so
+/// that their spacing follows h(x(s)): equal steps of ∫ ds / h, rounded to a whole number of
+/// them. Where h is uniform along the segment, exactly k/n with n = round(len/h).
 fn graded_fractions(len: f64, spacing: &Spacing, x_at: impl Fn(f64) -> f64) -> Vec<f64> {
     let (x0, x1) = (x_at(0.0), x_at(1.0));
     if x0.max(x1) <= spacing.refined_from_m() {
