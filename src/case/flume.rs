@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::{err, positive};
+use super::{err, inside_flume, positive};
 
 /// The flume: a floor from x = 0 to `length_m`, vertical walls at both ends up to `height_m`.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
@@ -91,15 +91,7 @@ impl Flume {
                     "give either flume.bed_m or flume.beach, not both".into(),
                 );
             }
-            if !(b.toe_x_m.is_finite() && b.toe_x_m > 0.0 && b.toe_x_m < self.length_m) {
-                return err(
-                    "flume.beach.toe_x_m",
-                    format!(
-                        "must lie inside the flume (0, {}) m, got {}",
-                        self.length_m, b.toe_x_m
-                    ),
-                );
-            }
+            inside_flume("flume.beach.toe_x_m", b.toe_x_m, self.length_m)?;
             if !(b.slope.is_finite() && b.slope > 0.0 && b.slope <= 2.0) {
                 return err(
                     "flume.beach.slope",

@@ -283,6 +283,18 @@ fn positive(field: &str, v: f64) -> Result<(), (String, String)> {
     }
 }
 
+/// Refuses an abscissa `x_m` unless it lies strictly inside a flume `length_m` long.
+fn inside_flume(field: &str, x_m: f64, length_m: f64) -> Result<(), (String, String)> {
+    if x_m.is_finite() && x_m > 0.0 && x_m < length_m {
+        Ok(())
+    } else {
+        err(
+            field,
+            format!("must lie inside the flume (0, {length_m}) m, got {x_m}"),
+        )
+    }
+}
+
 /// Refuses `v` unless it is finite and ≥ 0.
 fn non_negative(field: &str, v: f64) -> Result<(), (String, String)> {
     if v.is_finite() && v >= 0.0 {

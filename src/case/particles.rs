@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::{Flume, err, positive};
+use super::{Flume, err, inside_flume, positive};
 
 /// The particle lattice.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
@@ -141,15 +141,7 @@ impl ParticleSettings {
                     ),
                 );
             }
-            if !(r.x_m.is_finite() && r.x_m > 0.0 && r.x_m < flume.length_m) {
-                return err(
-                    "particles.refine.x_m",
-                    format!(
-                        "must lie inside the flume (0, {}) m, got {}",
-                        flume.length_m, r.x_m
-                    ),
-                );
-            }
+            inside_flume("particles.refine.x_m", r.x_m, flume.length_m)?;
             if let Some(t) = r.transition_m
                 && !(t.is_finite() && t >= 2.0 * h)
             {

@@ -70,14 +70,6 @@ impl SolverParams {
         self.settings.wall_margin_h * self.spacing.at(x_m)
     }
 
-    /// Robin length of the weak free-surface condition at `x_m`, m (`weak_surface_length_h`
-    /// h(x)); `None`: strong p = 0.
-    pub fn weak_surface_length_m(&self, x_m: f64) -> Option<f64> {
-        self.settings
-            .weak_surface_length_h
-            .map(|l| l * self.spacing.at(x_m))
-    }
-
     /// The α-shape's and the EDT's parameters.
     pub fn shape(&self) -> crate::mesh::ShapeParams {
         crate::mesh::ShapeParams {

@@ -23,7 +23,7 @@
 //! water line lies 5.6 mm below a wall node, moved at 0.05 m/s within 0.5 s; now it holds
 //! 1e-14 m/s. The edge from that wall node to the water line is on the free surface but not at
 //! p = 0, so the pressure force of `predict.rs` and `correct.rs` leaves out its traction.
-//! With `weak_surface_length_m` λ > 0, free-surface fluid nodes stay unknowns with their own
+//! With `weak_surface_length_h` λ/h(x) > 0, free-surface fluid nodes stay unknowns with their own
 //! continuity row and p = 0 holds weakly through the Robin term
 //! (Δt/ρ + τ_e) ℓ/(2λ) on the diagonal of both nodes of each free-surface edge of length ℓ.
 //! Strong p = 0 leaves the surface layer without a continuity equation, and there a 2h ripple
@@ -493,10 +493,10 @@ impl Solver {
     /// (Δt/ρ + τ_e) ∫ N_i p / λ, lumped (ℓ/2 per node), so that the boundary flux of the
     /// Poisson operator meets ∂p/∂n + p/λ = 0.
     fn add_weak_surface(&mut self, particles: &Particles, dt: f64) {
-        if self.params.settings.weak_surface_length_h.is_none() {
+        let Some(length_h) = self.params.settings.weak_surface_length_h else {
             return;
-        }
-        let params = &self.params;
+        };
+        let spacing = self.params.spacing;
         let rho = self.params.density_kg_m3;
         let mesh = &self.mesh;
         let sys = &mut self.pressure;
@@ -508,9 +508,8 @@ impl Solver {
             }
             let len = (particles.position[a] - particles.position[b]).norm();
             let mid_x = 0.5 * (particles.position[a].x + particles.position[b].x);
-            let lambda = params
-                .weak_surface_length_m(mid_x)
-                .expect("the weak condition is on");
+            // λ in units of the spacing where the edge is.
+            let lambda = length_h * spacing.at(mid_x);
             let tau = self.tau_e[self.cells.element_of_triangle(k as usize)];
             let w = (dt / rho + tau) * len / (2.0 * lambda);
             for i in [a, b] {
