@@ -163,9 +163,12 @@ impl Simulation {
             }
         };
         let remaining = until_s - self.time_s;
-        if remaining <= dt {
+        // The sum of the steps drifts from the output times by round-off: a remainder a few ulps
+        // over Δt (or 2Δt) is one step (or two), not one step and two half steps.
+        let slack = 1.0 + 1e-9;
+        if remaining <= dt * slack {
             remaining
-        } else if remaining < 2.0 * dt {
+        } else if remaining * slack < 2.0 * dt {
             // Two even steps rather than a full one and a sliver.
             0.5 * remaining
         } else {

@@ -181,3 +181,34 @@ fn still_water_holds_at_the_10_ms_step_with_the_short_scale_pass() {
     assert!(max_speed < 1e-6, "a surface mode grew: {max_speed:.3e} m/s");
     assert!(drift < 1e-6, "volume drift {drift:.3e}");
 }
+
+/// At the CFL policy's longest step (10 ms, still water) with output every 40 ms, the steps
+/// land on the output times in four steps each: the round-off of the summed steps does not
+/// split a step into two halves (before, 41 of the 50 intervals took 10, 10, 10, 5, 5 ms: 241 steps).
+#[test]
+fn steps_land_on_output_times_without_half_steps() {
+    let case = common::case(
+        "still_water.toml",
+        &[
+            "particles.spacing_m=0.05",
+            "time.dt_max_s=0.01",
+            "time.surface_wave_courant=0",
+        ],
+    );
+    let mut sim = Simulation::new(&case).unwrap();
+    let (interval_s, intervals) = (0.04, 50);
+    let mut shortest_s = f64::INFINITY;
+    for k in 1..=intervals {
+        sim.advance_to(k as f64 * interval_s, |_, r| {
+            shortest_s = shortest_s.min(r.dt_s)
+        })
+        .unwrap();
+    }
+    println!(
+        "{} steps over {intervals} intervals of {interval_s} s; shortest step {:.6} ms",
+        sim.steps,
+        1e3 * shortest_s
+    );
+    assert_eq!(sim.steps, 4 * intervals);
+    assert!((shortest_s - 0.01).abs() < 1e-9, "{shortest_s}");
+}
