@@ -3,12 +3,14 @@
 //! in-process channel (no network port, no separate viewer).
 //!
 //! - [`controls`]: settings → case, and the derived read-outs (no egui);
-//! - [`worker`]: the solver thread and its typed commands;
+//! - [`worker`]: the solver thread and its typed commands; [`pacer`]: how it shares the cores
+//!   with the window;
 //! - [`panel`]: the side panel;
 //! - [`window`]: the eframe app that hosts the viewer and the panel;
 //! - [`view`]: `surflab view`, recordings in the same embedded viewer.
 
 pub mod controls;
+pub mod pacer;
 pub mod panel;
 mod view;
 mod window;

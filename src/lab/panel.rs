@@ -2,7 +2,7 @@
 //! and the worker's speed. It talks to the worker only through typed commands.
 
 use super::controls::{Controls, Derived, Preset};
-use super::worker::{Command, SinkFactory, UI_FPS_LOW, UiFrames, WorkerHandle};
+use super::worker::{Command, SinkFactory, UiFrames, WorkerHandle};
 use crate::case::WaveTheory;
 use crate::waves::linear::PaddleKind;
 use egui::{RichText, Ui};
@@ -340,9 +340,11 @@ impl Panel {
         ));
         if s.running && s.solver_share < 0.999 {
             ui.label(format!(
-                "solver paced to {:.0} % of the time to keep the window above {UI_FPS_LOW:.0} fps \
+                "solver paced to {:.0} % of the time to keep the window at {:.0}–{:.0} fps \
                  (measured {:.0})",
                 100.0 * s.solver_share,
+                s.ui_fps_band.0,
+                s.ui_fps_band.1,
                 s.ui_fps_seen
             ));
         }

@@ -3,12 +3,13 @@
 //!
 //! While running, it steps for about one display frame's worth of wall time (the budget adapts
 //! to how long steps take), then logs one frame and reports. It also watches how many frames
-//! the window draws ([`UiFrames`]): when the window falls under [`UI_FPS_LOW`] while drawing
-//! (on a machine without a GPU the window's rasterizer competes with the solver for the same
-//! cores), the worker rests between its frames, for a share of the time that it adapts until
-//! the window is back above it. A numerical failure or a panic in a step stops the run and shows
+//! the window draws ([`UiFrames`]): when the window falls under its band while drawing (on a
+//! machine without a GPU the window's rasterizer competes with the solver for the same cores),
+//! the worker rests between its frames, for a share of the time that it adapts until the
+//! window is back in it ([`super::pacer`]). A numerical failure or a panic in a step stops the run and shows
 //! in the status; the thread lives on and obeys the next command.
 
+use super::pacer::Pacer;
 use crate::case::Case;
 use crate::diagnostics::breaking::BreakingDetector;
 use crate::output::recorder::{Frame, FrameRecorder};
@@ -72,6 +73,8 @@ pub struct Status {
     pub solver_share: f64,
     /// The window's frame rate the worker last measured (0 before the first measurement).
     pub ui_fps_seen: f64,
+    /// The band of frame rates the worker holds the window in (frames/s; [`super::pacer`]).
+    pub ui_fps_band: (f64, f64),
 }
 
 /// Frames the window has drawn: the panel ticks it once per frame, the worker reads it to pace
@@ -130,83 +133,6 @@ impl Surf {
         if !self.views_sent {
             self.views_sent = logger.add_surf_views().is_ok();
         }
-    }
-}
-
-/// Below this the worker rests more; above [`UI_FPS_HIGH`] it works more (frames/s). The lab's
-/// bar is 20 frames/s; the band keeps a margin above it without idling the solver for nothing.
-pub const UI_FPS_LOW: f64 = 22.0;
-pub const UI_FPS_HIGH: f64 = 26.0;
-/// The solver always works at least this share of the time. The window's own cost grows with
-/// the history its plots draw: on the teaching beach after 9 simulated seconds it drew 21
-/// frames/s with the solver at a tenth of its time, so resting more buys little.
-const MIN_SOLVER_SHARE: f64 = 0.35;
-/// How often the window's frame rate is measured.
-const PACE_WINDOW: Duration = Duration::from_millis(500);
-
-/// The worker's side of pacing: the share of time it works and where the last measurement
-/// of the window's frame rate started.
-#[derive(Debug)]
-struct Pacer {
-    ui_frames: Arc<UiFrames>,
-    share: f64,
-    mark: Option<(Instant, u64)>,
-    /// How long to rest before the next frame.
-    rest: Duration,
-}
-
-impl Pacer {
-    fn new(ui_frames: Arc<UiFrames>) -> Pacer {
-        Pacer {
-            ui_frames,
-            share: 1.0,
-            mark: None,
-            rest: Duration::ZERO,
-        }
-    }
-
-    /// After a frame that worked for `worked`: measures the window every [`PACE_WINDOW`],
-    /// adapts the share, and sets the rest before the next frame. Returns the frame rate
-    /// measured, if one was.
-    fn after_frame(&mut self, worked: Duration) -> Option<f64> {
-        let now = Instant::now();
-        let frames = self.ui_frames.count();
-        let mut measured = None;
-        match self.mark {
-            Some((t0, f0)) if now - t0 >= PACE_WINDOW => {
-                let fps = (frames - f0) as f64 / (now - t0).as_secs_f64();
-                self.share = adapt_share(self.share, fps, frames > f0);
-                self.mark = Some((now, frames));
-                measured = Some(fps);
-            }
-            Some(_) => {}
-            None => self.mark = Some((now, frames)),
-        }
-        self.rest = worked
-            .mul_f64(1.0 / self.share - 1.0)
-            .min(Duration::from_millis(200));
-        measured
-    }
-
-    /// Paused or reset: start measuring afresh, keep the share learnt.
-    fn restart(&mut self) {
-        self.mark = None;
-        self.rest = Duration::ZERO;
-    }
-}
-
-/// The solver's new share of the time, from the window's frame rate over the last window
-/// (`drawing`: whether it drew at all; a window that draws nothing, minimised or in a test
-/// without one, is not waiting for the solver, which then works flat out).
-pub fn adapt_share(share: f64, ui_fps: f64, drawing: bool) -> f64 {
-    if !drawing {
-        1.0
-    } else if ui_fps < UI_FPS_LOW {
-        (share * 0.8).max(MIN_SOLVER_SHARE)
-    } else if ui_fps > UI_FPS_HIGH {
-        (share * 1.15).min(1.0)
-    } else {
-        share
     }
 }
 
@@ -388,7 +314,8 @@ impl Worker {
                 if let Some(fps) = self.pacer.after_frame(started.elapsed()) {
                     self.status.ui_fps_seen = fps;
                 }
-                self.status.solver_share = self.pacer.share;
+                self.status.solver_share = self.pacer.state.share;
+                self.status.ui_fps_band = self.pacer.state.band();
             } else {
                 self.pacer.restart();
             }
@@ -427,7 +354,8 @@ impl Worker {
         self.status = Status {
             case_name: self.case.name.clone(),
             recording: self.recording.clone(),
-            solver_share: self.pacer.share,
+            solver_share: self.pacer.state.share,
+            ui_fps_band: self.pacer.state.band(),
             ..Status::default()
         };
         self.last_timings = None;
@@ -636,37 +564,6 @@ impl Worker {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// The share falls while the window is slow, down to its floor; rises back to flat out when
-    /// it is fast; and is flat out when the window draws nothing.
-    #[test]
-    fn the_solver_share_follows_the_window() {
-        let mut share = 1.0;
-        for _ in 0..50 {
-            share = adapt_share(share, 12.0, true);
-        }
-        assert_eq!(share, MIN_SOLVER_SHARE);
-        let held = adapt_share(0.5, 0.5 * (UI_FPS_LOW + UI_FPS_HIGH), true);
-        assert_eq!(held, 0.5);
-        for _ in 0..50 {
-            share = adapt_share(share, 60.0, true);
-        }
-        assert_eq!(share, 1.0);
-        assert_eq!(adapt_share(0.2, 0.0, false), 1.0);
-    }
-
-    /// The rest before the next frame is what makes the share: work w, rest w (1/share − 1).
-    #[test]
-    fn the_rest_gives_the_share() {
-        let frames = Arc::new(UiFrames::default());
-        let mut pacer = Pacer::new(frames.clone());
-        pacer.share = 0.25;
-        pacer.after_frame(Duration::from_millis(20));
-        assert_eq!(pacer.rest, Duration::from_millis(60));
-        pacer.share = 1.0;
-        pacer.after_frame(Duration::from_millis(20));
-        assert_eq!(pacer.rest, Duration::ZERO);
-    }
 
     /// The solver thread runs at nice 10; the thread that spawned it keeps its own priority.
     #[cfg(target_os = "linux")]
