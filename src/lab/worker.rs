@@ -6,8 +6,8 @@
 //! the window draws ([`UiFrames`]): when the window falls under its band while drawing (on a
 //! machine without a GPU the window's rasterizer competes with the solver for the same cores),
 //! the worker rests between its frames, for a share of the time that it adapts until the
-//! window is back in it ([`super::pacer`]). A numerical failure or a panic in a step stops the run and shows
-//! in the status; the thread lives on and obeys the next command.
+//! window is back in it ([`super::pacer`]). A numerical failure or a panic in a step stops the
+//! run and shows in the status; the thread lives on and obeys the next command.
 
 use super::pacer::Pacer;
 use crate::case::Case;
