@@ -156,6 +156,20 @@ pub fn lower_priority() {
     }
 }
 
+/// The cores this process may use (1 when the system does not say).
+fn available_cores() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+/// Whether the solver keeps its second thread (the remesh's second half and the pressure
+/// matrix's symbolic analysis) on a machine with `cores` cores. The window's frame takes a
+/// core's worth of threads (the UI, and without a GPU the rasterizer's): with four cores or more
+/// both fit beside it; with two or three the solver steps on one core and leaves the rest to
+/// the window.
+pub fn solver_gets_two_cores(cores: usize) -> bool {
+    cores >= 4
+}
+
 /// Sinks the recording stream always feeds (the embedded viewer; nothing in tests).
 pub type SinkFactory = Arc<dyn Fn() -> Vec<Box<dyn LogSink>> + Send + Sync>;
 
@@ -362,8 +376,9 @@ impl Worker {
         self.rtf_window = (0.0, 0.0);
         match Simulation::new(&self.case) {
             Ok(mut sim) => {
-                // One core for the solver, the other for the window.
-                sim.use_one_core();
+                if !solver_gets_two_cores(available_cores()) {
+                    sim.use_one_core();
+                }
                 self.surf = Some(Surf::new(&sim));
                 self.sim = Some(sim);
             }
@@ -564,6 +579,15 @@ impl Worker {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_solver_shares_two_or_three_cores_with_the_window_and_takes_two_of_four() {
+        assert!(!solver_gets_two_cores(1));
+        assert!(!solver_gets_two_cores(2));
+        assert!(!solver_gets_two_cores(3));
+        assert!(solver_gets_two_cores(4));
+        assert!(solver_gets_two_cores(16));
+    }
 
     /// The solver thread runs at nice 10; the thread that spawned it keeps its own priority.
     #[cfg(target_os = "linux")]
