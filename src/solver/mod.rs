@@ -285,6 +285,8 @@ pub struct Solver {
     pub params: SolverParams,
     /// The kept mesh of the last step (for observers: gauges, boundary, volume).
     pub mesh: Mesh,
+    /// The Delaunay triangulations of stage 2 and their candidates, kept for their memory.
+    triangulator: crate::mesh::Triangulator,
     /// The elements (triangles and EDT polygons) and their integration cells.
     cells: element_set::ElementSet,
     /// Per element.
@@ -363,9 +365,10 @@ impl Solver {
     /// Stages 1–2 only: mesh the current cloud without advancing it (for t = 0 and observers).
     pub fn remesh(&mut self, particles: &Particles, flume: &Flume) -> Result<(), MeshError> {
         let p = &self.params;
-        let tri = crate::mesh::triangulate(particles, p.alpha_radius_m(), p.two_threads)?;
+        self.triangulator
+            .run(particles, p.alpha_radius_m(), p.two_threads)?;
         crate::mesh::alpha_shape(
-            &tri,
+            &self.triangulator.triangles,
             particles,
             &p.shape(),
             flume.paddle_now.as_ref(),

@@ -54,19 +54,18 @@ impl Solver {
         t.time(Stage::Relax, || self.relax_start(particles));
         let changes = t.time(Stage::Nodes, || self.manage_nodes(particles));
         let (max_r_m, two_threads) = (self.params.alpha_radius_m(), self.params.two_threads);
-        let tri = t.time(Stage::Remesh, || {
-            mesh::triangulate(particles, max_r_m, two_threads)
+        t.time(Stage::Remesh, || {
+            self.triangulator.run(particles, max_r_m, two_threads)
         })?;
         t.time(Stage::AlphaShape, || {
             mesh::alpha_shape(
-                &tri,
+                &self.triangulator.triangles,
                 particles,
                 &shape,
                 flume.paddle_now.as_ref(),
                 &mut self.mesh,
             )
         });
-        drop(tri);
         t.time(Stage::Relax, || self.relax_targets(particles));
         t.time(Stage::Predict, || {
             self.slip_walls_take_the_water_velocity(particles)
