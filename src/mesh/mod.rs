@@ -149,12 +149,12 @@ pub fn triangulate(
 /// [`triangulate`] with its memory kept from step to step: spade's two triangulations (one per
 /// piece) and the candidate lists are cleared and filled again rather than allocated.
 ///
-/// With two threads the caller fills the right (shoreward) piece and a new thread the left
-/// one. The new thread starts about 0.18 ms after the call, and on a beach the shoreward
-/// piece costs more: on the teaching beach (2 600 nodes a piece) the right piece took 2.35–2.57
-/// ms on the caller's thread, the left one 1.8–2.1 ms on the new one, so that the stage ends
-/// when the right one does; the other way round it ended 0.2–0.3 ms later (the new thread's
-/// right piece 2.3 ms).
+/// With two threads the caller fills the right (shoreward) piece and a new thread, which starts
+/// 0.17–0.19 ms after the call, the left one: on a beach the shoreward piece, with the swash,
+/// is the dearer. On the teaching beach (2 600 nodes a piece; `surflab bench`, eight alternated
+/// runs of each) the stage's median went from 2.89 ms (fresh triangulations, the new thread on
+/// the shoreward piece) to 2.61 ms with the memory kept and to 2.15 ms with the pieces swapped
+/// as well (2.72 and 2.56 ms in a second sitting).
 #[derive(Default)]
 pub struct Triangulator {
     pieces: [Piece; 2],
