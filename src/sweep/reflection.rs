@@ -1,7 +1,7 @@
 //! The reflection coefficient of a run from two elevation gauges (Goda & Suzuki 1976).
 //!
-//! Over the last three wave periods of `gauges.csv` the first harmonic of each gauge,
-//! η ≈ Re{Z e^{−iωt}}, is split as Z(x) = P e^{ikx} + Q e^{−ikx} with the linear wavenumber k
+//! Over every whole wave period of `gauges.csv` after the reflection has come back (at least
+//! three) the first harmonic of each gauge, η ≈ Re{Z e^{−iωt}}, is split as Z(x) = P e^{ikx} + Q e^{−ikx} with the linear wavenumber k
 //! of the period and the depth at the gauges; K_r = |Q|/|P|. Two gauges give the two
 //! unknowns exactly; the separation is ill-posed where sin(kΔx) → 0, so only pairs with
 //! 0.05 < Δx/L < 0.45 are used (Goda & Suzuki's range), the one with the largest |sin kΔx|.
@@ -19,7 +19,10 @@ use crate::validation::harmonic_fit;
 use nalgebra::Complex;
 use std::f64::consts::TAU;
 
-/// Periods of the record the harmonics are fitted over.
+/// The fewest periods of the record the harmonics are fitted over. All the whole periods
+/// after the reflection's return are used: at the plunging points of the 1:4 sweep, windows of
+/// three periods gave K_r from 0.005 to 0.126 (ξ₀ = 1.23) and 0.039 to 0.095 (1.48) depending on
+/// where they ended, the last one at the low end; at ξ₀ ≥ 1.98 they agreed within 0.04.
 const PERIODS_FITTED: f64 = 3.0;
 
 /// The coefficient and the gauge pair it came from.
@@ -27,6 +30,8 @@ const PERIODS_FITTED: f64 = 3.0;
 pub struct Reflection {
     pub coefficient: f64,
     pub gauges_x_m: [f64; 2],
+    /// The stretch of the record fitted, s.
+    pub window_s: [f64; 2],
 }
 
 /// K_r of a run of `case` from its gauge `record`, or why there is none.
@@ -75,13 +80,15 @@ pub fn reflection(case: &Case, record: &GaugeRecord) -> Result<Reflection, Strin
     let (x1, x2) = (flat[i].0, flat[j].0);
     let end = record.t_s.last().copied().unwrap_or(0.0);
     let back_s = 2.0 * (case.flume.length_m - x1.min(x2)) / group_velocity;
-    let needed = w.ramp_periods * w.period_s + back_s + PERIODS_FITTED * w.period_s;
+    let back_at = w.ramp_periods * w.period_s + back_s;
+    let needed = back_at + PERIODS_FITTED * w.period_s;
     if end < needed {
         return Err(format!(
             "the record ends at {end:.1} s; the reflection needs {needed:.1} s"
         ));
     }
-    let window = [end - PERIODS_FITTED * w.period_s, end];
+    let periods = ((end - back_at) / w.period_s).floor();
+    let window = [end - periods * w.period_s, end];
     let harmonic = |eta: &[Option<f64>]| -> Result<Complex<f64>, String> {
         let (_, amplitude, phase) = harmonic_fit(&record.t_s, eta, omega, window)
             .ok_or("too few wet samples at a gauge")?;
@@ -95,6 +102,7 @@ pub fn reflection(case: &Case, record: &GaugeRecord) -> Result<Reflection, Strin
     Ok(Reflection {
         coefficient: reflected.norm() / incident.norm(),
         gauges_x_m: [x1, x2],
+        window_s: window,
     })
 }
 
@@ -129,23 +137,38 @@ mod tests {
         let omega = TAU / w.period_s;
         let (a, kr, phase) = (0.06, 0.3, 0.8);
         let t: Vec<f64> = (0..2000).map(|i| i as f64 * 0.04).collect();
-        let column = |x: f64| -> Vec<Option<f64>> {
+        // The reflection `kr_at(t)` of the wave at time t.
+        let column = |x: f64, kr_at: &dyn Fn(f64) -> f64| -> Vec<Option<f64>> {
             t.iter()
-                .map(|t| {
+                .map(|&t| {
                     let incident = a * (k * x - omega * t).cos();
-                    let reflected = kr * a * (-k * x - omega * t + phase).cos();
+                    let reflected = kr_at(t) * a * (-k * x - omega * t + phase).cos();
                     Some(0.01 + incident + reflected)
                 })
                 .collect()
         };
         let xs = [2.1, 4.1, 5.9, 7.4];
-        let record = GaugeRecord {
+        let record_of = |kr_at: &dyn Fn(f64) -> f64| GaugeRecord {
             t_s: t.clone(),
             names: xs.iter().map(|x| format!("eta_{x:.3}")).collect(),
-            columns: xs.iter().map(|&x| column(x)).collect(),
+            columns: xs.iter().map(|&x| column(x, kr_at)).collect(),
         };
+        let record = record_of(&|_| kr);
         let r = reflection(&case, &record).unwrap();
         assert!((r.coefficient - kr).abs() < 1e-3, "{r:?}");
+        // Every whole period after the reflection's return is fitted, not the last three: a
+        // reflection of 0.2 over the first half of that stretch and 0.4 over the second reads
+        // as their mean (the last three periods alone would read 0.4).
+        let [from, to] = r.window_s;
+        let periods = (to - from) / w.period_s;
+        assert!(
+            periods > 20.0 && (periods - periods.round()).abs() < 1e-9,
+            "{periods}"
+        );
+        let middle = to - (0.5 * periods).floor() * w.period_s;
+        let stepped = reflection(&case, &record_of(&|t| if t < middle { 0.2 } else { 0.4 }));
+        let stepped = stepped.unwrap().coefficient;
+        assert!((stepped - 0.3).abs() < 0.02, "{stepped}");
         // 7.4 m is on the beach and 5.9 m at its toe; only 2.1 and 4.1 are clear of both.
         assert_eq!(r.gauges_x_m, [2.1, 4.1]);
         // Too short a record: no coefficient.
