@@ -115,7 +115,7 @@ pub struct Candidate {
 }
 
 /// Below this many nodes the cloud is triangulated in one piece.
-const SPLIT_MIN_NODES: usize = 2_000;
+pub(crate) const SPLIT_MIN_NODES: usize = 2_000;
 
 /// Stage 1: the Delaunay triangles of all nodes with circumradius below `max_r_m` and positive
 /// area, the only ones the α-shape can keep.

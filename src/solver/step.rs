@@ -141,3 +141,44 @@ impl Solver {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::case::Case;
+    use crate::simulation::Simulation;
+
+    /// One thread or two, a run is the same to the last bit: the triangulation's two pieces
+    /// come out in the same order either way, and the symbolic analysis of the pressure matrix
+    /// is the same on either thread (the lab steps on one core of two, `run` on both).
+    #[test]
+    fn a_run_does_not_depend_on_the_threads() {
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/teaching_beach.toml");
+        let case = Case::load(&path, &[]).unwrap();
+        let run = |one_core: bool| {
+            let mut sim = Simulation::new(&case).unwrap();
+            if one_core {
+                sim.use_one_core();
+            }
+            while sim.time_s < 0.5 {
+                sim.step_towards(0.5).unwrap();
+            }
+            (
+                sim.particles.position.clone(),
+                sim.particles.velocity.clone(),
+            )
+        };
+        let (two, one) = (run(false), run(true));
+        // Above the size at which the cloud is cut in two pieces.
+        assert!(
+            two.0.len() > 2 * crate::mesh::SPLIT_MIN_NODES,
+            "{}",
+            two.0.len()
+        );
+        assert!(
+            two.1.iter().any(|u| u.norm() > 1e-3),
+            "the paddle has moved the water"
+        );
+        assert_eq!(two, one);
+    }
+}
