@@ -160,6 +160,8 @@ pub struct Triangulator {
     pieces: [Piece; 2],
     /// The result of the last [`Triangulator::run`].
     pub triangles: Vec<Candidate>,
+    /// Scratch: the nodes' x, partly sorted to find the median.
+    xs: Vec<f64>,
 }
 
 /// One piece of the cloud: its nodes and its triangulation, both reused.
@@ -185,18 +187,26 @@ impl Triangulator {
         if n < SPLIT_MIN_NODES {
             return self.in_one_piece(x, max_r_m);
         }
-        let mut xs: Vec<f64> = x.iter().map(|p| p.x).collect();
+        let xs = &mut self.xs;
+        xs.clear();
+        xs.extend(x.iter().map(|p| p.x));
         let mid = n / 2;
         xs.select_nth_unstable_by(mid, f64::total_cmp);
         let x_cut = xs[mid] + 0.3 * max_r_m;
         let band = 1.001 * max_r_m;
-        let left = (0..n as u32).filter(|&i| x[i as usize].x < x_cut + band);
-        let right = (0..n as u32).filter(|&i| x[i as usize].x >= x_cut - band);
-        let overlap = left.clone().count() + right.clone().count();
-        if !x_cut.is_finite() || overlap > n + n / 2 {
+        let on_left_piece = move |x: f64| x < x_cut + band;
+        let on_right_piece = move |x: f64| x >= x_cut - band;
+        // The two pieces' sizes together, counted on the scratch (the same values, reordered).
+        let both: usize = xs
+            .iter()
+            .map(|&v| usize::from(on_left_piece(v)) + usize::from(on_right_piece(v)))
+            .sum();
+        if !x_cut.is_finite() || both > n + n / 2 {
             // A short cloud (or a bad position, which the insertion reports).
             return self.in_one_piece(x, max_r_m);
         }
+        let left = (0..n as u32).filter(|&i| on_left_piece(x[i as usize].x));
+        let right = (0..n as u32).filter(|&i| on_right_piece(x[i as usize].x));
         let [first, second] = &mut self.pieces;
         let on_left = |cx: f64| cx < x_cut;
         let on_right = |cx: f64| cx >= x_cut;

@@ -1,8 +1,9 @@
 //! The reflection coefficient of a run from two elevation gauges (Goda & Suzuki 1976).
 //!
 //! Over every whole wave period of `gauges.csv` after the reflection has come back (at least
-//! three) the first harmonic of each gauge, η ≈ Re{Z e^{−iωt}}, is split as Z(x) = P e^{ikx} + Q e^{−ikx} with the linear wavenumber k
-//! of the period and the depth at the gauges; K_r = |Q|/|P|. Two gauges give the two
+//! three) the first harmonic of each gauge, η ≈ Re{Z e^{−iωt}}, is split as
+//! Z(x) = P e^{ikx} + Q e^{−ikx} with the linear wavenumber k of the period and the depth at the
+//! gauges; K_r = |Q|/|P|. Two gauges give the two
 //! unknowns exactly; the separation is ill-posed where sin(kΔx) → 0, so only pairs with
 //! 0.05 < Δx/L < 0.45 are used (Goda & Suzuki's range), the one with the largest |sin kΔx|.
 //!
@@ -23,7 +24,7 @@ use std::f64::consts::TAU;
 /// after the reflection's return are used: at the plunging points of the 1:4 sweep, windows of
 /// three periods gave K_r from 0.005 to 0.126 (ξ₀ = 1.23) and 0.039 to 0.095 (1.48) depending on
 /// where they ended, the last one at the low end; at ξ₀ ≥ 1.98 they agreed within 0.04.
-const PERIODS_FITTED: f64 = 3.0;
+const MIN_PERIODS_FITTED: f64 = 3.0;
 
 /// The coefficient and the gauge pair it came from.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -81,7 +82,7 @@ pub fn reflection(case: &Case, record: &GaugeRecord) -> Result<Reflection, Strin
     let end = record.t_s.last().copied().unwrap_or(0.0);
     let back_s = 2.0 * (case.flume.length_m - x1.min(x2)) / group_velocity;
     let back_at = w.ramp_periods * w.period_s + back_s;
-    let needed = back_at + PERIODS_FITTED * w.period_s;
+    let needed = back_at + MIN_PERIODS_FITTED * w.period_s;
     if end < needed {
         return Err(format!(
             "the record ends at {end:.1} s; the reflection needs {needed:.1} s"
