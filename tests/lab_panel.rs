@@ -203,7 +203,22 @@ fn a_thousand_random_changes_while_running() {
         h.state().worker.status.particles,
         h.state().worker.status.error
     );
-    assert!(furthest > 0.0, "the worker never advanced");
+    // And it must still run: how far it got amid the changes depends on the machine's load
+    // (a parallel build on two cores starved it of every step once), so the run that counts
+    // is the one after them.
+    // Reset to the last case applied (a random case may have stopped with an error) and run.
+    h.state_mut().reset();
+    h.state().worker.send(surflab::lab::worker::Command::Run);
+    wait_for(
+        &mut h,
+        60.0,
+        "the worker to advance after 1 000 changes",
+        |p| p.worker.status.running && p.worker.status.t_s > 0.0,
+    );
+    println!(
+        "after the changes it runs: t = {:.3} s",
+        h.state().worker.status.t_s
+    );
 }
 
 #[test]
