@@ -23,6 +23,7 @@ pub mod mesh;
 pub mod mesh3d;
 pub mod output;
 pub mod particles;
+pub mod second_core;
 pub mod simulation;
 pub mod solver;
 pub mod solver3d;

@@ -34,6 +34,7 @@ pub mod edt;
 use crate::case::Spacing;
 use crate::geometry::PaddleFace;
 use crate::particles::{NodeKind, Particles};
+use crate::second_core::SecondCore;
 use nalgebra::Vector2;
 use spade::{DelaunayTriangulation, HasPosition, Point2, Triangulation};
 
@@ -141,23 +142,24 @@ pub fn triangulate(
     max_r_m: f64,
     two_threads: bool,
 ) -> Result<Vec<Candidate>, MeshError> {
+    let second = two_threads.then(SecondCore::start).flatten();
     let mut triangulator = Triangulator::default();
-    triangulator.run(particles, max_r_m, two_threads)?;
+    triangulator.run(particles, max_r_m, second.as_ref())?;
     Ok(triangulator.triangles)
 }
 
 /// [`triangulate`] with its memory kept from step to step: spade's two triangulations (one per
 /// piece) and the candidate lists are cleared and filled again rather than allocated.
 ///
-/// With two threads the caller fills the right (shoreward) piece and a new thread, which starts
-/// 0.17–0.19 ms after the call, the left one: on a beach the shoreward piece, with the swash,
-/// is the dearer. On the teaching beach (2 600 nodes a piece; `surflab bench`, eight alternated
+/// With a second core the caller fills the right (shoreward) piece and the second core the left
+/// one: on a beach the shoreward piece, with the swash, is the dearer. On the teaching beach (2 600 nodes a piece; `surflab bench`, eight alternated
 /// runs of each) the stage's median went from 2.89 ms (fresh triangulations, the new thread on
 /// the shoreward piece) to 2.61 ms with the memory kept and to 2.15 ms with the pieces swapped
 /// as well (2.72 and 2.56 ms in a second sitting).
 #[derive(Default)]
 pub struct Triangulator {
-    pieces: [Piece; 2],
+    /// The left piece is `Box`ed so that it can travel to the second core and back.
+    pieces: (Box<Piece>, Piece),
     /// The result of the last [`Triangulator::run`].
     pub triangles: Vec<Candidate>,
     /// Scratch: the nodes' x, partly sorted to find the median.
@@ -179,7 +181,7 @@ impl Triangulator {
         &mut self,
         particles: &Particles,
         max_r_m: f64,
-        two_threads: bool,
+        second: Option<&SecondCore>,
     ) -> Result<(), MeshError> {
         let n = particles.len();
         let x = &particles.position;
@@ -207,47 +209,47 @@ impl Triangulator {
         }
         let left = (0..n as u32).filter(|&i| on_left_piece(x[i as usize].x));
         let right = (0..n as u32).filter(|&i| on_right_piece(x[i as usize].x));
-        let [first, second] = &mut self.pieces;
-        let on_left = |cx: f64| cx < x_cut;
-        let on_right = |cx: f64| cx >= x_cut;
-        let (a, b) = if two_threads {
-            std::thread::scope(|s| {
-                let left_job = s.spawn(|| first.fill(x, left, max_r_m, on_left));
-                let b = second.fill(x, right, max_r_m, on_right);
-                let a = left_job.join().expect("the triangulation thread panicked");
-                (a, b)
-            })
+        let on_left = move |cx: f64| cx < x_cut;
+        let on_right = move |cx: f64| cx >= x_cut;
+        self.pieces.0.load(x, left);
+        self.pieces.1.load(x, right);
+        let (a, b) = if let Some(core) = second {
+            let mut first = std::mem::take(&mut self.pieces.0);
+            let left_job = core.run(move || {
+                let a = first.triangulate(max_r_m, on_left);
+                (first, a)
+            });
+            let b = self.pieces.1.triangulate(max_r_m, on_right);
+            let (first, a) = left_job
+                .wait()
+                .expect("the triangulation of the left piece panicked");
+            self.pieces.0 = first;
+            (a, b)
         } else {
             (
-                first.fill(x, left, max_r_m, on_left),
-                second.fill(x, right, max_r_m, on_right),
+                self.pieces.0.triangulate(max_r_m, on_left),
+                self.pieces.1.triangulate(max_r_m, on_right),
             )
         };
         a?;
         b?;
-        self.triangles.extend_from_slice(&first.triangles);
-        self.triangles.extend_from_slice(&second.triangles);
+        self.triangles.extend_from_slice(&self.pieces.0.triangles);
+        self.triangles.extend_from_slice(&self.pieces.1.triangles);
         Ok(())
     }
 
     fn in_one_piece(&mut self, x: &[Vector2<f64>], max_r_m: f64) -> Result<(), MeshError> {
-        let piece = &mut self.pieces[0];
-        piece.fill(x, 0..x.len() as u32, max_r_m, |_| true)?;
+        let piece = &mut self.pieces.1;
+        piece.load(x, 0..x.len() as u32);
+        piece.triangulate(max_r_m, |_| true)?;
         std::mem::swap(&mut self.triangles, &mut piece.triangles);
         Ok(())
     }
 }
 
 impl Piece {
-    /// Fills `self.triangles` with the triangles of the Delaunay triangulation of `nodes` with
-    /// circumradius below `max_r_m`, positive area and a circumcentre x that `owned` accepts.
-    fn fill(
-        &mut self,
-        position: &[Vector2<f64>],
-        nodes: impl Iterator<Item = u32>,
-        max_r_m: f64,
-        owned: impl Fn(f64) -> bool,
-    ) -> Result<(), MeshError> {
+    /// Takes `nodes` as the piece's vertices.
+    fn load(&mut self, position: &[Vector2<f64>], nodes: impl Iterator<Item = u32>) {
         self.vertices.clear();
         self.vertices.extend(nodes.map(|i| {
             let p = position[i as usize];
@@ -256,6 +258,12 @@ impl Piece {
                 id: i,
             }
         }));
+    }
+
+    /// Fills `self.triangles` with the triangles of the Delaunay triangulation of the loaded
+    /// nodes with circumradius below `max_r_m`, positive area and a circumcentre x that `owned`
+    /// accepts.
+    fn triangulate(&mut self, max_r_m: f64, owned: impl Fn(f64) -> bool) -> Result<(), MeshError> {
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
         for v in &self.vertices {
             lo = [lo[0].min(v.pos.x), lo[1].min(v.pos.y)];

@@ -109,9 +109,8 @@ fn the_two_pieces_give_the_small_triangles_of_the_whole_cloud() {
         let split = triangulate(&p, max_r, true).unwrap();
         let serial = triangulate(&p, max_r, false).unwrap();
         let mut piece = Piece::default();
-        piece
-            .fill(&p.position, 0..p.len() as u32, max_r, |_| true)
-            .unwrap();
+        piece.load(&p.position, 0..p.len() as u32);
+        piece.triangulate(max_r, |_| true).unwrap();
         let whole = &piece.triangles;
         assert!(whole.len() > 2 * 89 * 29 - 10, "{} triangles", whole.len());
         assert_eq!(triples(&split), triples(whole), "jitter {jitter}");
@@ -120,8 +119,9 @@ fn the_two_pieces_give_the_small_triangles_of_the_whole_cloud() {
         // after a cloud of another size.
         let mut kept = Triangulator::default();
         let other = Particles::new(&[], &fluid[..1000]);
+        let second = crate::second_core::SecondCore::start();
         for cloud in [&p, &other, &p] {
-            kept.run(cloud, max_r, true).unwrap();
+            kept.run(cloud, max_r, second.as_ref()).unwrap();
         }
         assert_eq!(triples(&kept.triangles), triples(whole), "jitter {jitter}");
     }

@@ -314,8 +314,10 @@ pub struct Solver {
     divergence_target: Vec<f64>,
     ledger: relax::AreaLedger,
     pressure: PressureSystem,
-    /// The symbolic Cholesky analysis of this step, running on a second thread.
+    /// The symbolic Cholesky analysis of this step, running on the second core.
     symbolic_job: Option<pressure::SymbolicJob>,
+    /// The second core's thread, started at the first step that may use it.
+    second_core: Option<crate::second_core::SecondCore>,
     cg: cg::Scratch,
     /// The positions xⁿ while the second pass of `geometry_theta` runs on moved ones.
     geometry_saved: Vec<Vector2<f64>>,
@@ -353,6 +355,18 @@ impl Solver {
     /// Work on one core only (the lab leaves the other to the window).
     pub fn use_one_core(&mut self) {
         self.params.two_threads = false;
+        self.start_second_core();
+    }
+
+    /// Starts the second core's thread if the solver may use two cores and it is not running
+    /// (and ends it if the solver may not): `self.second_core` is then `Some` exactly when
+    /// the step may use it.
+    fn start_second_core(&mut self) {
+        if !self.params.two_threads {
+            self.second_core = None;
+        } else if self.second_core.is_none() {
+            self.second_core = crate::second_core::SecondCore::start();
+        }
     }
 
     /// The pressure system of the last step (for the solver comparison in `bench`).
@@ -364,9 +378,10 @@ impl Solver {
 impl Solver {
     /// Stages 1–2 only: mesh the current cloud without advancing it (for t = 0 and observers).
     pub fn remesh(&mut self, particles: &Particles, flume: &Flume) -> Result<(), MeshError> {
+        self.start_second_core();
         let p = &self.params;
         self.triangulator
-            .run(particles, p.alpha_radius_m(), p.two_threads)?;
+            .run(particles, p.alpha_radius_m(), self.second_core.as_ref())?;
         crate::mesh::alpha_shape(
             &self.triangulator.triangles,
             particles,

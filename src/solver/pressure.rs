@@ -41,6 +41,7 @@ use super::{Solver, StepError};
 use crate::case::PressureSolver;
 use crate::mesh::edt::MAX_POLYGON_NODES;
 use crate::particles::Particles;
+use crate::second_core::Pending;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::linalg::cholesky::{
@@ -49,7 +50,6 @@ use faer::sparse::linalg::cholesky::{
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use nalgebra::Vector2;
 use std::sync::Arc;
-use std::thread::JoinHandle;
 
 const NONE: u32 = u32::MAX;
 
@@ -83,7 +83,7 @@ pub struct PressureSystem {
 }
 
 /// The symbolic analysis running on the second thread.
-pub(super) type SymbolicJob = JoinHandle<Result<SymbolicCholesky<usize>, String>>;
+pub(super) type SymbolicJob = Pending<Result<SymbolicCholesky<usize>, String>>;
 
 /// Symbolic Cholesky analysis of a symmetric pattern (full CSR = CSC) whose rows are nodes at
 /// `position`: nested-dissection ordering, supernodal structure.
@@ -338,13 +338,11 @@ impl Solver {
         // the pattern itself.
         if self.params.settings.pressure_solver == PressureSolver::Cholesky
             && m > 0
-            && self.params.two_threads
+            && let Some(core) = &self.second_core
         {
             let (position, row_ptr, col) =
                 (sys.position.clone(), sys.row_ptr.clone(), sys.col.clone());
-            self.symbolic_job = Some(std::thread::spawn(move || {
-                analyse(&position, &row_ptr, &col)
-            }));
+            self.symbolic_job = Some(core.run(move || analyse(&position, &row_ptr, &col)));
         }
     }
 
@@ -524,7 +522,7 @@ impl Solver {
     pub(super) fn solve_pressure(&mut self, particles: &Particles) -> Result<usize, StepError> {
         if let Some(job) = self.symbolic_job.take() {
             let symbolic = job
-                .join()
+                .wait()
                 .map_err(|_| StepError::Pressure("the symbolic analysis thread panicked".into()))?
                 .map_err(StepError::Pressure)?;
             self.pressure.symbolic = Some(Arc::new(symbolic));

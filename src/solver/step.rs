@@ -53,9 +53,11 @@ impl Solver {
 
         t.time(Stage::Relax, || self.relax_start(particles));
         let changes = t.time(Stage::Nodes, || self.manage_nodes(particles));
-        let (max_r_m, two_threads) = (self.params.alpha_radius_m(), self.params.two_threads);
+        self.start_second_core();
+        let max_r_m = self.params.alpha_radius_m();
         t.time(Stage::Remesh, || {
-            self.triangulator.run(particles, max_r_m, two_threads)
+            self.triangulator
+                .run(particles, max_r_m, self.second_core.as_ref())
         })?;
         t.time(Stage::AlphaShape, || {
             mesh::alpha_shape(
