@@ -82,7 +82,7 @@ pub struct PressureSystem {
     slot_of: Vec<u32>,
 }
 
-/// The symbolic analysis running on the second thread.
+/// The symbolic analysis running on the second core.
 pub(super) type SymbolicJob = Pending<Result<SymbolicCholesky<usize>, String>>;
 
 /// Symbolic Cholesky analysis of a symmetric pattern (full CSR = CSC) whose rows are nodes at
