@@ -369,6 +369,15 @@ impl Solver {
         }
     }
 
+    /// Stage 1, the Delaunay triangles the α-shape may keep, on the second core as well when
+    /// the solver may use two.
+    fn triangulate(&mut self, particles: &Particles) -> Result<(), MeshError> {
+        self.start_second_core();
+        let max_r_m = self.params.alpha_radius_m();
+        self.triangulator
+            .run(particles, max_r_m, self.second_core.as_ref())
+    }
+
     /// The pressure system of the last step (for the solver comparison in `bench`).
     pub fn pressure_system(&self) -> &PressureSystem {
         &self.pressure
@@ -378,14 +387,11 @@ impl Solver {
 impl Solver {
     /// Stages 1–2 only: mesh the current cloud without advancing it (for t = 0 and observers).
     pub fn remesh(&mut self, particles: &Particles, flume: &Flume) -> Result<(), MeshError> {
-        self.start_second_core();
-        let p = &self.params;
-        self.triangulator
-            .run(particles, p.alpha_radius_m(), self.second_core.as_ref())?;
+        self.triangulate(particles)?;
         crate::mesh::alpha_shape(
             &self.triangulator.triangles,
             particles,
-            &p.shape(),
+            &self.params.shape(),
             flume.paddle_now.as_ref(),
             &mut self.mesh,
         );

@@ -53,12 +53,7 @@ impl Solver {
 
         t.time(Stage::Relax, || self.relax_start(particles));
         let changes = t.time(Stage::Nodes, || self.manage_nodes(particles));
-        self.start_second_core();
-        let max_r_m = self.params.alpha_radius_m();
-        t.time(Stage::Remesh, || {
-            self.triangulator
-                .run(particles, max_r_m, self.second_core.as_ref())
-        })?;
+        t.time(Stage::Remesh, || self.triangulate(particles))?;
         t.time(Stage::AlphaShape, || {
             mesh::alpha_shape(
                 &self.triangulator.triangles,
