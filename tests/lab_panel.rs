@@ -205,8 +205,8 @@ fn a_thousand_random_changes_while_running() {
     );
     // And it must still run: how far it got amid the changes depends on the machine's load
     // (a parallel build on two cores starved it of every step once), so the run that counts
-    // is the one after them.
-    // Reset to the last case applied (a random case may have stopped with an error) and run.
+    // is the one after them, from the last case applied (a random case may have stopped with
+    // an error).
     h.state_mut().reset();
     h.state().worker.send(surflab::lab::worker::Command::Run);
     wait_for(
