@@ -6,10 +6,12 @@
 //! the celerity is the distance between the gauges at 2.2 m and 6.2 m over the time between
 //! their peaks (each peak refined by a parabola through the three highest samples).
 //!
-//! Measured (2026-11-23): height −0.1 / −0.2 / −0.2 % at 5 / 10 / 15 d, celerity −1.5 %,
-//! volume −0.04 % by 6.3 s; about 70 s on two cores. It missed both bars before the weak
-//! surface condition and the Δt bound (−11.8 % and −2.6 %), and the celerity bar before the
-//! contact point on the paddle got its hydrostatic pressure (−1.6 % and −3.1 %).
+//! Measured (2026-11-28, the case at the flow's 10 ms step, 630 steps): height +0.0 / −0.1 /
+//! −0.1 % at 5 / 10 / 15 d, celerity −1.5 %, volume −0.058 % by 6.3 s; the two tests take 15 s
+//! on two cores (at the surface-wave bound, 2 520 steps: −0.1 / −0.2 / −0.2 %, −1.5 %, about
+//! 70 s). It missed both bars before the weak surface condition and that bound came in
+//! (−11.8 % and −2.6 %), and the celerity bar before the contact point on the paddle got its
+//! hydrostatic pressure (−1.6 % and −3.1 %).
 
 mod common;
 
