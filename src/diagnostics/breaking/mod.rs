@@ -12,12 +12,13 @@
 mod frame;
 mod run_up;
 
-use super::surface::{SurfaceProfile, shoreline_tip, still_shoreline_x_m};
+use super::surface::{SurfaceProfile, film_edge, shoreline_tip, still_shoreline_x_m};
 use crate::case::{Case, WaveTheory};
 use crate::simulation::Simulation;
 use crate::waves::breaker::{self, BreakerType};
 use frame::{Frame, Onset};
-use run_up::SwashRecord;
+pub use run_up::FilmRunUp;
+use run_up::{RUN_UP_FILMS_M, SwashRecord};
 
 /// What the detector reads of the simulation besides the surface profile: the time, the bed,
 /// and how fast the water at a crest moves. [`Simulation`] is one; a test builds frames of its
@@ -250,6 +251,8 @@ pub struct BreakingDetector {
     pub breakers: Vec<Breaker>,
     /// The shoreline tip's elevation above still water at each frame after the gate.
     swash: SwashRecord,
+    /// The same for the edge of each of [`RUN_UP_FILMS_M`].
+    films: Vec<SwashRecord>,
 }
 
 /// Breaking in `summary.json`.
@@ -311,6 +314,8 @@ pub struct BreakingSummary {
     /// Each wave's run-up after the gate: the highest elevation above still water its
     /// shoreline tip (the edge of the swash) reached, m; one value for a solitary wave.
     pub run_ups_m: Vec<f64>,
+    /// The run-up read at the edge of films of fixed depths instead of the tip.
+    pub run_up_films: Vec<FilmRunUp>,
     pub breakers: Vec<Breaker>,
 }
 
@@ -352,6 +357,7 @@ impl BreakingDetector {
             slope_parameter: None,
             breakers: Vec::new(),
             swash: SwashRecord::default(),
+            films: vec![SwashRecord::default(); RUN_UP_FILMS_M.len()],
         };
         let (Some(beach), Some(w)) = (&case.flume.beach, &case.wavemaker) else {
             return out;
@@ -418,7 +424,7 @@ impl BreakingDetector {
             return Vec::new();
         };
         let mut events = Vec::new();
-        self.record_tip(&s, sim.time_s(), profile);
+        self.record_tip(&s, sim, profile);
         let frame = Frame::new(sim, profile, &s);
         events.extend(self.follow_watched(&frame));
         let onset = frame.most_seaward_onset();
@@ -433,14 +439,22 @@ impl BreakingDetector {
         events
     }
 
-    /// The shoreline tip's elevation above still water (see [`shoreline_tip`]), after the
-    /// gate: the ramp's waves run up too, but their run-up is not the wave's.
-    fn record_tip(&mut self, s: &BeachSetup, t_s: f64, profile: &SurfaceProfile) {
+    /// The shoreline tip's elevation above still water (see [`shoreline_tip`]), and the
+    /// films' edges' ([`film_edge`]), after the gate: the ramp's waves run up too, but their
+    /// run-up is not the wave's.
+    fn record_tip(&mut self, s: &BeachSetup, sim: &dyn FlumeState, profile: &SurfaceProfile) {
+        let t_s = sim.time_s();
         if t_s < s.gate_s {
             return;
         }
-        if let Some((_, y)) = shoreline_tip(profile, profile.index(s.toe_x_m)) {
+        let k_toe = profile.index(s.toe_x_m);
+        if let Some((_, y)) = shoreline_tip(profile, k_toe) {
             self.swash.push(t_s, y - s.level_m);
+        }
+        for (record, film) in self.films.iter_mut().zip(RUN_UP_FILMS_M) {
+            if let Some((_, y)) = film_edge(profile, k_toe, film, |x| sim.bed_y_at(x)) {
+                record.push(t_s, y - s.level_m);
+            }
         }
     }
 
@@ -588,6 +602,19 @@ impl BreakingDetector {
             height_b_mean_m: mean(|b| b.height_b_m),
             run_up_m: run_up,
             run_ups_m: run_ups,
+            run_up_films: self
+                .films
+                .iter()
+                .zip(RUN_UP_FILMS_M)
+                .map(|(record, film_m)| {
+                    let run_ups_m = record.per_wave_m(s.time_scale_s, s.single_wave);
+                    FilmRunUp {
+                        film_m,
+                        run_up_m: run_ups_m.iter().copied().fold(0.0, f64::max),
+                        run_ups_m,
+                    }
+                })
+                .collect(),
             breakers: self.breakers.clone(),
         })
     }

@@ -7,6 +7,27 @@
 //! the tip ahead of it while it runs up, but it is not the edge of the water and does not
 //! count.
 
+/// The films whose edges are recorded beside the tip, m deep. A film's run-up is the height
+/// above still water of the water's surface at its edge, about the bed's plus the film's
+/// depth: what a run-up wire that far above the bed reads. The tip follows a swash tongue
+/// down to one particle's thickness, so it climbs further at each finer spacing; the edge of
+/// a film a spacing or two deep need not (see `docs/sweep.md`). Where the edge is a bore's
+/// front the surface there stands higher than bed + film, and a deeper film can read higher
+/// than a shallower one.
+pub const RUN_UP_FILMS_M: [f64; 3] = [0.005, 0.01, 0.02];
+
+/// Run-up at the edge of one film (`summary.json`, `breaking.run_up_films`).
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct FilmRunUp {
+    /// The film's depth, m: the edge is where the water over the bed is at least this deep.
+    pub film_m: f64,
+    /// The highest of `run_ups_m` (0 with none), m above still water.
+    pub run_up_m: f64,
+    /// Each wave's: the highest elevation above still water of the surface at the film's
+    /// edge, m.
+    pub run_ups_m: Vec<f64>,
+}
+
 /// The tip's elevation above still water at every frame after the gate: (t, R), s and m.
 #[derive(Debug, Clone, Default)]
 pub(super) struct SwashRecord {

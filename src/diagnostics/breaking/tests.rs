@@ -173,6 +173,20 @@ fn a_solitary_wave_that_overturns_is_one_plunging_breaker_and_runs_up_to_its_tip
         "run-up {} m, the tip's highest {tip} m",
         summary.run_up_m
     );
+    // The 5 mm film ahead of the bore is thinner than 1 and 2 cm: their edges stay at least
+    // 1 cm lower, and above still water (the bore runs up the beach). The 2 cm film's edge is
+    // the bore's steep front, whose surface stands higher than the 1 cm film's gentle edge.
+    let film = |m: f64| {
+        let f = summary.run_up_films.iter().find(|f| f.film_m == m).unwrap();
+        assert_eq!(f.run_ups_m.len(), 1, "{f:?}");
+        f.run_up_m
+    };
+    let (one, two) = (film(0.01), film(0.02));
+    println!("run-up: tip {tip:.4} m, 1 cm film {one:.4} m, 2 cm film {two:.4} m");
+    assert!(
+        0.0 < one.min(two) && one.max(two) < tip - 0.01,
+        "{one}, {two}, {tip}"
+    );
 }
 
 /// The still level of `cases/collapsing_slope025.toml` (d = 0.7 m; a 1:4 beach from x =
