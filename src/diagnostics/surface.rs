@@ -180,9 +180,9 @@ pub fn shoreline_tip(profile: &SurfaceProfile, k_from: usize) -> Option<(f64, f6
 /// The depth is the water's share of the vertical line: the crossings alternate between
 /// entering and leaving the water from the top down, and the last one meets the bed, so an
 /// overturned jet's air pocket is not counted. This is what a run-up wire a height `film_m`
-/// above the bed reads, and unlike [`shoreline_tip`] it does not follow the film thinner than the
-/// particle spacing resolves: the tip of a swash tongue one particle thick climbs further at
-/// each finer spacing.
+/// above the bed reads; unlike [`shoreline_tip`] it does not follow a film thinner than
+/// `film_m`, and the tip of a swash tongue one particle thick climbs further at each finer
+/// spacing.
 pub fn film_edge(
     profile: &SurfaceProfile,
     k_from: usize,

@@ -40,6 +40,8 @@ pub struct Row {
     #[serde(rename = "H_b_m")]
     pub height_b_m: Option<f64>,
     pub run_up_m: Option<f64>,
+    /// The run-up read where the water is 2 cm deep (`breaking.run_up_films`).
+    pub run_up_2cm_film_m: Option<f64>,
     /// |reflected| / |incident| first harmonic from two gauges (see `reflection.rs`).
     pub reflection_coefficient: Option<f64>,
     /// The two gauges it was computed from, m.
@@ -68,6 +70,7 @@ impl Row {
             h_b_m: None,
             height_b_m: None,
             run_up_m: None,
+            run_up_2cm_film_m: None,
             reflection_coefficient: None,
             reflection_gauges_x_m: None,
             reflection_note: None,
@@ -134,6 +137,15 @@ pub fn row_from_summary(point: &Point, json: &Value, run_dir: &Path) -> Row {
     row.h_b_m = number("breaking.h_b_m");
     row.height_b_m = number("breaking.H_b_m");
     row.run_up_m = number("breaking.run_up_m");
+    row.run_up_2cm_film_m = json
+        .pointer("/breaking/run_up_films")
+        .and_then(Value::as_array)
+        .and_then(|films| {
+            films
+                .iter()
+                .find(|f| f.get("film_m").and_then(Value::as_f64) == Some(0.02))
+        })
+        .and_then(|f| f.get("run_up_m").and_then(Value::as_f64));
     row.volume_drift_max = number("volume_drift_max");
     row.particles = json.get("particles").and_then(Value::as_u64);
     row.median_ms_per_step = number("median_ms_per_step");
@@ -168,7 +180,7 @@ fn reflection_of(json: &Value, run_dir: &Path) -> Result<super::reflection::Refl
 }
 
 /// The fixed columns of `sweep.csv` after the varied fields, with their units.
-pub const COLUMNS: [(&str, &str); 15] = [
+pub const COLUMNS: [(&str, &str); 16] = [
     (
         "status",
         "ok, why the run stopped, error: ... (could not start) or not run",
@@ -186,6 +198,10 @@ pub const COLUMNS: [(&str, &str); 15] = [
     (
         "run_up_m",
         "run-up: the shoreline tip's highest elevation above still water over the waves, m",
+    ),
+    (
+        "run_up_2cm_film_m",
+        "the same read at the edge of the water 2 cm deep, m",
     ),
     (
         "reflection_coefficient",
@@ -227,6 +243,7 @@ pub fn csv(keys: &[String], rows: &[Row]) -> String {
                 num(r.h_b_m),
                 num(r.height_b_m),
                 num(r.run_up_m),
+                num(r.run_up_2cm_film_m),
                 num(r.reflection_coefficient),
                 num(r.volume_drift_max),
                 r.particles.map_or(String::new(), |n| n.to_string()),
@@ -333,7 +350,9 @@ mod tests {
             "breaking": {
                 "iribarren": 1.94, "iribarren_b": 1.8, "predicted": "collapsing",
                 "observed": "plunging", "x_b_m": 7.6, "h_b_m": 0.2, "H_b_m": 0.15,
-                "run_up_m": 0.21
+                "run_up_m": 0.21,
+                "run_up_films": [{"film_m": 0.01, "run_up_m": 0.2, "run_ups_m": [0.2]},
+                                 {"film_m": 0.02, "run_up_m": 0.19, "run_ups_m": [0.19]}]
             }
         });
         let row = row_from_summary(&point(), &json, Path::new("/nonexistent"));
@@ -341,6 +360,7 @@ mod tests {
         assert_eq!(row.height_b_m, Some(0.15));
         assert_eq!(row.observed.as_deref(), Some("plunging"));
         assert_eq!(row.particles, Some(1234));
+        assert_eq!(row.run_up_2cm_film_m, Some(0.19));
         assert!(row.finished() && !row.ok());
         assert_eq!(row.reflection_coefficient, None);
         let keys = vec!["wavemaker.period_s".to_owned(), "solver.tau".to_owned()];
@@ -351,7 +371,7 @@ mod tests {
         assert_eq!(
             lines[1],
             "2.5,\"\"\"a,b\"\"\",\"stopped at t = 1.2 s (step 40): diverged, badly\",1.94,1.8,\
-             collapsing,plunging,7.6,0.2,0.15,0.21,,0.004,1234,3.25,12.5,\
+             collapsing,plunging,7.6,0.2,0.15,0.21,0.19,,0.004,1234,3.25,12.5,\
              \"wavemaker.period_s=2.5,solver.tau=a_b\""
         );
     }
