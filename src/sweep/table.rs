@@ -4,6 +4,7 @@
 use super::reflection::reflection;
 use super::spec::Point;
 use crate::case::Case;
+use crate::diagnostics::breaking::SWEEP_FILM_M;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 use std::path::Path;
@@ -40,7 +41,7 @@ pub struct Row {
     #[serde(rename = "H_b_m")]
     pub height_b_m: Option<f64>,
     pub run_up_m: Option<f64>,
-    /// The run-up read where the water is 2 cm deep (`breaking.run_up_films`).
+    /// The run-up read where the water is `SWEEP_FILM_M` (2 cm) deep (`breaking.run_up_films`).
     pub run_up_2cm_film_m: Option<f64>,
     /// |reflected| / |incident| first harmonic from two gauges (see `reflection.rs`).
     pub reflection_coefficient: Option<f64>,
@@ -143,7 +144,7 @@ pub fn row_from_summary(point: &Point, json: &Value, run_dir: &Path) -> Row {
         .and_then(|films| {
             films
                 .iter()
-                .find(|f| f.get("film_m").and_then(Value::as_f64) == Some(0.02))
+                .find(|f| f.get("film_m").and_then(Value::as_f64) == Some(SWEEP_FILM_M))
         })
         .and_then(|f| f.get("run_up_m").and_then(Value::as_f64));
     row.volume_drift_max = number("volume_drift_max");

@@ -17,8 +17,8 @@ use crate::case::{Case, WaveTheory};
 use crate::simulation::Simulation;
 use crate::waves::breaker::{self, BreakerType};
 use frame::{Frame, Onset};
-pub use run_up::FilmRunUp;
-use run_up::{RUN_UP_FILMS_M, SwashRecord};
+pub use run_up::{FilmRunUp, SWEEP_FILM_M};
+use run_up::{RUN_UP_FILMS_M, SwashRecord, highest_m};
 
 /// What the detector reads of the simulation besides the surface profile: the time, the bed,
 /// and how fast the water at a crest moves. [`Simulation`] is one; a test builds frames of its
@@ -545,7 +545,7 @@ impl BreakingDetector {
             .filter(|b| b.t_b_s >= steady_from_s && b.height_b_m >= WAVE_BREAKER_H * s.height_m)
             .collect();
         let run_ups = self.swash.per_wave_m(s.time_scale_s, s.single_wave);
-        let run_up = run_ups.iter().copied().fold(0.0, f64::max);
+        let run_up = highest_m(&run_ups);
         let first = self.breakers.first();
         let first_wave = self
             .breakers
@@ -610,7 +610,7 @@ impl BreakingDetector {
                     let run_ups_m = record.per_wave_m(s.time_scale_s, s.single_wave);
                     FilmRunUp {
                         film_m,
-                        run_up_m: run_ups_m.iter().copied().fold(0.0, f64::max),
+                        run_up_m: highest_m(&run_ups_m),
                         run_ups_m,
                     }
                 })

@@ -16,6 +16,16 @@
 /// than a shallower one.
 pub const RUN_UP_FILMS_M: [f64; 3] = [0.005, 0.01, 0.02];
 
+/// The film whose run-up `sweep.csv` reports beside the tip's (`run_up_2cm_film_m`), m: two
+/// spacings of the 1:4 sweep's swash, the shallowest at which its surging point's run-up
+/// changed by less than 10 % at h/2.
+pub const SWEEP_FILM_M: f64 = RUN_UP_FILMS_M[2];
+
+/// The highest of the waves' run-ups, m (0 with none).
+pub(super) fn highest_m(run_ups_m: &[f64]) -> f64 {
+    run_ups_m.iter().copied().fold(0.0, f64::max)
+}
+
 /// Run-up at the edge of one film (`summary.json`, `breaking.run_up_films`).
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct FilmRunUp {
