@@ -174,15 +174,16 @@ pub fn shoreline_tip(profile: &SurfaceProfile, k_from: usize) -> Option<(f64, f6
 }
 
 /// The edge of a film at least `film_m` thick: the most shoreward sample at or beyond `k_from`
-/// where the water over the bed (`bed_y_at`, m above the floor) is at least `film_m` deep, as
-/// (x, height of its top), m; `None` when the water is nowhere that deep there.
+/// where the water lying on the bed (`bed_y_at`, m above the floor) is at least `film_m` deep,
+/// as (x, height of that water's surface), m; `None` when it is nowhere that deep there.
 ///
-/// The depth is the water's share of the vertical line: the crossings alternate between
-/// entering and leaving the water from the top down, and the last one meets the bed, so an
-/// overturned jet's air pocket is not counted. This is what a run-up wire a height `film_m`
-/// above the bed reads; unlike [`shoreline_tip`] it does not follow a film thinner than
-/// `film_m`, and the tip of a swash tongue one particle thick climbs further at each finer
-/// spacing.
+/// The crossings alternate between entering and leaving the water from the top down, and with
+/// an odd number of them the last one is the surface of the water that meets the bed; that
+/// layer's depth is what counts. A jet or a splash above it (an even number of crossings over a
+/// dry bed, or the upper pairs over a wet one) is not run-up and is left out. This is what a
+/// run-up wire a height `film_m` above the bed reads; unlike [`shoreline_tip`] it does not
+/// follow a film thinner than `film_m`, whose tip, one particle thick, climbs further at each
+/// finer spacing.
 pub fn film_edge(
     profile: &SurfaceProfile,
     k_from: usize,
@@ -191,15 +192,12 @@ pub fn film_edge(
 ) -> Option<(f64, f64)> {
     (k_from..profile.crossings.len()).rev().find_map(|k| {
         let c = &profile.crossings[k];
-        let top = c.first()?.0;
-        let bed = bed_y_at(profile.x_m(k));
-        let depth = if c.len() % 2 == 1 {
-            let pairs: f64 = c.chunks_exact(2).map(|p| p[0].0 - p[1].0).sum();
-            pairs + (c[c.len() - 1].0 - bed)
-        } else {
-            top - bed
-        };
-        (depth >= film_m).then_some((profile.x_m(k), top))
+        if c.len().is_multiple_of(2) {
+            return None;
+        }
+        let surface = c[c.len() - 1].0;
+        let x = profile.x_m(k);
+        (surface - bed_y_at(x) >= film_m).then_some((x, surface))
     })
 }
 
@@ -307,11 +305,13 @@ mod tests {
     }
 
     #[test]
-    fn the_film_edge_is_where_the_water_is_that_deep_and_a_jet_s_air_does_not_count() {
+    fn the_film_edge_reads_the_water_on_the_bed_and_not_a_jet_above_it() {
         // A 1:4 beach from x = 1 m (bed 0.25 (x − 1)), still level 0.5 m: water 0.5 m deep
         // up to x = 2 m, then a film thinning linearly from 0.04 m at x = 2 m to nothing at
-        // x = 2.4 m; over x = 2.25–2.35 m a jet 2 mm thick stands 0.2 m above the film.
+        // x = 2.4 m; over x = 2.25–2.35 m a jet 2 mm thick stands 0.2 m above the film, and
+        // over the dry bed at x = 2.45–2.5 m a jet 3 cm thick stands 0.1 m above the bed.
         let bed = |x: f64| (0.25 * (x - 1.0)).max(0.0);
+        let film = |x: f64| bed(x) + 0.04 * (2.4 - x) / 0.4;
         let dx = 0.005;
         let crossings = (0..=600)
             .map(|k| {
@@ -319,14 +319,16 @@ mod tests {
                 if x < 2.0 {
                     return vec![(0.5_f64.max(bed(x) + 0.04), 0.0)];
                 }
+                if (2.45..2.5).contains(&x) {
+                    return vec![(bed(x) + 0.13, 0.0), (bed(x) + 0.1, 0.0)];
+                }
                 if x >= 2.4 {
                     return Vec::new();
                 }
-                let surface = bed(x) + 0.04 * (2.4 - x) / 0.4;
-                let mut c = vec![(surface, 0.0)];
+                let mut c = vec![(film(x), 0.0)];
                 if (2.25..2.35).contains(&x) {
-                    c.insert(0, (surface + 0.202, 0.0));
-                    c.insert(1, (surface + 0.2, 0.0));
+                    c.insert(0, (film(x) + 0.202, 0.0));
+                    c.insert(1, (film(x) + 0.2, 0.0));
                 }
                 c
             })
@@ -336,21 +338,21 @@ mod tests {
             crossings,
             cavities: Vec::new(),
         };
-        let edge = |film: f64| film_edge(&profile, profile.index(1.0), film, bed).unwrap();
-        // The film is 0.02 m deep at x = 2.2 m; the jet's air does not count (its top stands
-        // 0.2 m above the bed up to x = 2.35 m)...
-        let (x, y) = edge(0.02);
-        assert!((x - 2.2).abs() <= dx + 1e-9, "edge of the 2 cm film at {x}");
-        assert!((y - (bed(x) + 0.04 * (2.4 - x) / 0.4)).abs() < 1e-9, "{y}");
-        // ...but its water does: film + 2 mm ≥ 1 cm up to x = 2.32 m.
-        let (x, _) = edge(0.01);
-        assert!(
-            (x - 2.32).abs() <= dx + 1e-9,
-            "edge of the 1 cm film at {x}"
-        );
-        // The tip is the last water, further up; the film is nowhere 0.1 m deep.
+        let edge = |depth: f64| film_edge(&profile, profile.index(1.0), depth, bed).unwrap();
+        // The film is 0.02 m deep at x = 2.2 m and 0.01 m at 2.3 m; neither jet counts, the
+        // one over the film (its top 0.2 m up) nor the one over the dry bed (3 cm thick)...
+        for (depth, at) in [(0.02, 2.2), (0.01, 2.3)] {
+            let (x, y) = edge(depth);
+            assert!(
+                (x - at).abs() <= dx + 1e-9,
+                "edge of the {depth} m film at {x}"
+            );
+            assert!((y - film(x)).abs() < 1e-9, "{y}");
+        }
+        // ...while the tip follows the last water, the dry bed's jet.
         let (tip, _) = shoreline_tip(&profile, profile.index(1.0)).unwrap();
-        assert!(tip > 2.39, "{tip}");
+        assert!(tip > 2.49, "{tip}");
+        // The film is nowhere 0.1 m deep; the water is nowhere 1 m deep.
         let (x, _) = edge(0.1);
         assert!((x - (2.0 - dx)).abs() < 1e-9, "{x}");
         assert_eq!(film_edge(&profile, profile.index(1.0), 1.0, bed), None);

@@ -17,8 +17,8 @@
 pub const RUN_UP_FILMS_M: [f64; 3] = [0.005, 0.01, 0.02];
 
 /// The film whose run-up `sweep.csv` reports beside the tip's (`run_up_2cm_film_m`), m: two
-/// spacings of the 1:4 sweep's swash, the shallowest at which its surging point's run-up
-/// changed by less than 10 % at h/2.
+/// spacings of the 1:4 sweep's swash, the shallowest at which its surging and plunging
+/// points' run-ups changed by less than 10 % at h/2.
 pub const SWEEP_FILM_M: f64 = RUN_UP_FILMS_M[2];
 
 /// The highest of the waves' run-ups, m (0 with none).
@@ -29,12 +29,12 @@ pub(super) fn highest_m(run_ups_m: &[f64]) -> f64 {
 /// Run-up at the edge of one film (`summary.json`, `breaking.run_up_films`).
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct FilmRunUp {
-    /// The film's depth, m: the edge is where the water over the bed is at least this deep.
+    /// The film's depth, m: the edge is where the water lying on the bed is at least this deep.
     pub film_m: f64,
     /// The highest of `run_ups_m` (0 with none), m above still water.
     pub run_up_m: f64,
-    /// Each wave's: the highest elevation above still water of the surface at the film's
-    /// edge, m.
+    /// Each wave's: the highest elevation above still water of the surface of the water on
+    /// the bed at the film's edge, m.
     pub run_ups_m: Vec<f64>,
 }
 
