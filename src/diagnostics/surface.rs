@@ -167,6 +167,8 @@ pub fn follow_crest(
 /// within one sample of that node, so the height stands above the bed by less than the film's
 /// thickness at the last particle (at most about half a particle spacing for samples h/2
 /// apart). Where the still water stands against the far wall, the tip is the water at the wall.
+/// A plunging jet flying over the dry beach ahead of the swash is part of the main body too,
+/// and until it lands the tip is its top; [`film_edge`] leaves it out.
 pub fn shoreline_tip(profile: &SurfaceProfile, k_from: usize) -> Option<(f64, f64)> {
     (k_from..profile.crossings.len())
         .rev()
