@@ -41,7 +41,8 @@ pub struct Row {
     #[serde(rename = "H_b_m")]
     pub height_b_m: Option<f64>,
     pub run_up_m: Option<f64>,
-    /// The run-up read where the water is `SWEEP_FILM_M` (2 cm) deep (`breaking.run_up_films`).
+    /// The run-up read where the water on the bed is `SWEEP_FILM_M` (2 cm) deep
+    /// (`breaking.run_up_films`).
     pub run_up_2cm_film_m: Option<f64>,
     /// |reflected| / |incident| first harmonic from two gauges (see `reflection.rs`).
     pub reflection_coefficient: Option<f64>,
@@ -202,7 +203,7 @@ pub const COLUMNS: [(&str, &str); 16] = [
     ),
     (
         "run_up_2cm_film_m",
-        "the same read at the edge of the water 2 cm deep, m",
+        "the same read at the edge of the water on the bed 2 cm deep, m",
     ),
     (
         "reflection_coefficient",

@@ -8,7 +8,7 @@
 //! count.
 
 /// The films whose edges are recorded beside the tip, m deep. A film's run-up is the height
-/// above still water of the water's surface at its edge, about the bed's plus the film's
+/// above still water of the surface of the water lying on the bed at its edge, about the bed's plus the film's
 /// depth: what a run-up wire that far above the bed reads. The tip follows a swash tongue
 /// down to one particle's thickness, so it climbs further at each finer spacing; the edge of
 /// a film a spacing or two deep need not (see `docs/sweep.md`). Where the edge is a bore's
