@@ -25,7 +25,10 @@ impl Solver {
     /// the −Δt (u·∇)u of a fixed point, a term whose mean over a standing wave is not zero, and
     /// mode-1 sloshing with slip walls grew (as in 3D: `solver3d`, docs/three_d.md). Free slip
     /// has no normal gradient of the velocity along the wall, so the water beside the node is
-    /// what moves at it. Corner nodes (no tangent) and no-slip walls are left alone.
+    /// what moves at it. A slip wall node beside no water (dry, or in a wetted corner's
+    /// all-wall triangles only) takes its wall's own velocity: left with the one it had, it
+    /// carried a velocity from step to step into a corner puddle's pressure. Corner nodes (no
+    /// tangent) and no-slip walls are left alone.
     pub(super) fn slip_walls_take_the_water_velocity(&self, particles: &mut Particles) {
         use crate::particles::NodeKind;
         // No-slip flumes (every committed 2D case) have nothing to do: no pass over the mesh.
@@ -58,6 +61,10 @@ impl Solver {
         for (i, &(total, count)) in sum.iter().enumerate() {
             if count > 0 {
                 particles.velocity[i] = particles.admissible_velocity(i, total / count as f64);
+            } else if particles.kind[i] == NodeKind::Wall
+                && particles.wall_tangent[i] != Vector2::zeros()
+            {
+                particles.velocity[i] = particles.wall_velocity[i];
             }
         }
     }

@@ -415,10 +415,13 @@ impl Flow3 {
             }
         }
         for (i, &(total, count)) in sum.iter().enumerate() {
-            if count == 0 {
-                continue;
+            if count > 0 {
+                self.u[i] = self.admissible_velocity(i, total / count as f64);
+            } else if self.walls[i] != 0 {
+                // Beside no water (dry, or in a wetted corner's all-wall tetrahedra only): the
+                // planes' own velocity, not the one the node was left with (as in 2D).
+                self.u[i] = self.admissible_velocity(i, Vector3::zeros());
             }
-            self.u[i] = self.admissible_velocity(i, total / count as f64);
         }
     }
 
