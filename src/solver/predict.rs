@@ -39,6 +39,10 @@ impl Solver {
         {
             return;
         }
+        // A wall node that slides: on a slip wall, not a corner.
+        let slides = |i: usize| {
+            particles.kind[i] == NodeKind::Wall && particles.wall_tangent[i] != Vector2::zeros()
+        };
         let n = particles.len();
         let mut sum = vec![(Vector2::zeros(), 0usize); n];
         for t in &self.mesh.triangles {
@@ -49,21 +53,15 @@ impl Solver {
                 .fold((Vector2::zeros(), 0), |(sum, k), &j| {
                     (sum + particles.velocity[j], k + 1)
                 });
-            for &w in &v {
-                if particles.kind[w] == NodeKind::Wall
-                    && particles.wall_tangent[w] != Vector2::zeros()
-                {
-                    sum[w].0 += total;
-                    sum[w].1 += count;
-                }
+            for &w in v.iter().filter(|&&w| slides(w)) {
+                sum[w].0 += total;
+                sum[w].1 += count;
             }
         }
         for (i, &(total, count)) in sum.iter().enumerate() {
             if count > 0 {
                 particles.velocity[i] = particles.admissible_velocity(i, total / count as f64);
-            } else if particles.kind[i] == NodeKind::Wall
-                && particles.wall_tangent[i] != Vector2::zeros()
-            {
+            } else if slides(i) {
                 particles.velocity[i] = particles.wall_velocity[i];
             }
         }

@@ -8,12 +8,12 @@
 //! count.
 
 /// The films whose edges are recorded beside the tip, m deep. A film's run-up is the height
-/// above still water of the surface of the water lying on the bed at its edge, about the bed's plus the film's
-/// depth: what a run-up wire that far above the bed reads. The tip follows a swash tongue
-/// down to one particle's thickness, so it climbs further at each finer spacing; the edge of
-/// a film a spacing or two deep need not (see `docs/sweep.md`). Where the edge is a bore's
-/// front the surface there stands higher than bed + film, and a deeper film can read higher
-/// than a shallower one.
+/// above still water of the surface of the water lying on the bed at its edge, about the
+/// bed's plus the film's depth: what a run-up wire that far above the bed reads. The tip
+/// follows a swash tongue down to one particle's thickness, so it climbs further at each finer
+/// spacing; the edge of a film a spacing or two deep need not (see `docs/sweep.md`). Where
+/// the edge is a bore's front the surface there stands higher than bed + film, and a deeper
+/// film can read higher than a shallower one.
 pub const RUN_UP_FILMS_M: [f64; 3] = [0.005, 0.01, 0.02];
 
 /// The film whose run-up `sweep.csv` reports beside the tip's (`run_up_2cm_film_m`), m: two
