@@ -62,6 +62,12 @@ impl Particles {
         self.kind[i] == NodeKind::Fluid
     }
 
+    /// Whether any wall node slides (a slip wall that is not a corner): false in a no-slip
+    /// flume, whose wall nodes hold their velocity.
+    pub fn any_wall_slides(&self) -> bool {
+        self.wall_tangent.iter().any(|t| *t != Vector2::zeros())
+    }
+
     pub fn fluid_count(&self) -> usize {
         self.kind.iter().filter(|k| **k == NodeKind::Fluid).count()
     }

@@ -13,6 +13,7 @@ mod filter;
 mod motion;
 mod nodes;
 mod ordering;
+mod pieces;
 mod predict;
 pub mod pressure;
 pub(crate) mod relax;

@@ -32,11 +32,7 @@ impl Solver {
     pub(super) fn slip_walls_take_the_water_velocity(&self, particles: &mut Particles) {
         use crate::particles::NodeKind;
         // No-slip flumes (every committed 2D case) have nothing to do: no pass over the mesh.
-        if particles
-            .wall_tangent
-            .iter()
-            .all(|t| *t == Vector2::zeros())
-        {
+        if !particles.any_wall_slides() {
             return;
         }
         // A wall node that slides: on a slip wall, not a corner.

@@ -37,7 +37,7 @@
 //! matrix values.
 
 use super::element_set::{ElementSet, PolygonOperators, polygon_boundary};
-use super::{Solver, StepError};
+use super::{Solver, StepError, pieces};
 use crate::case::PressureSolver;
 use crate::mesh::edt::MAX_POLYGON_NODES;
 use crate::particles::Particles;
@@ -312,7 +312,8 @@ impl Solver {
         dirichlet.clear();
         dirichlet
             .extend((0..n).map(|i| self.surface_pinned(particles, i) || !self.mesh.in_mesh[i]));
-        pin_sealed_components(&self.mesh, particles, &mut dirichlet);
+        pieces::pin_sealed_components(&self.mesh, particles, &mut dirichlet);
+        pieces::pin_thin_pieces_on_slip_walls(&self.mesh, particles, &mut dirichlet);
         self.dirichlet = dirichlet;
         self.contact_pressure(particles);
         self.cells.set_topology(&self.mesh, n);
@@ -632,35 +633,6 @@ fn assemble_polygon(
             if r != NONE {
                 sys.rhs[r as usize] -= flux;
             }
-        }
-    }
-}
-
-/// A connected piece of the mesh with no free-surface node (water sealed by walls, or a
-/// pocket whose surface nodes are all wall nodes) would leave the pressure undetermined up to
-/// a constant: pin its highest node to p = 0.
-/// A free-surface node held weakly anchors its piece as well (its Robin term).
-fn pin_sealed_components(mesh: &crate::mesh::Mesh, particles: &Particles, dirichlet: &mut [bool]) {
-    let n = particles.len();
-    let (label, count) = mesh.components(n);
-    let mut has_dirichlet = vec![false; count];
-    let mut top: Vec<Option<usize>> = vec![None; count];
-    for i in 0..n {
-        let c = label[i];
-        if c == u32::MAX {
-            continue;
-        }
-        let c = c as usize;
-        if dirichlet[i] || mesh.free_surface[i] {
-            has_dirichlet[c] = true;
-        }
-        if top[c].is_none_or(|j| particles.position[i].y > particles.position[j].y) {
-            top[c] = Some(i);
-        }
-    }
-    for c in 0..count {
-        if let (false, Some(i)) = (has_dirichlet[c], top[c]) {
-            dirichlet[i] = true;
         }
     }
 }
