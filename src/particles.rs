@@ -62,10 +62,16 @@ impl Particles {
         self.kind[i] == NodeKind::Fluid
     }
 
-    /// Whether any wall node slides (a slip wall that is not a corner): false in a no-slip
-    /// flume, whose wall nodes hold their velocity.
+    /// Whether node i slides along a wall (a slip wall node that is not a corner): only those
+    /// have a tangent.
+    pub fn slides(&self, i: usize) -> bool {
+        self.wall_tangent[i] != Vector2::zeros()
+    }
+
+    /// Whether any wall node slides: false in a no-slip flume, whose wall nodes hold their
+    /// velocity.
     pub fn any_wall_slides(&self) -> bool {
-        self.wall_tangent.iter().any(|t| *t != Vector2::zeros())
+        (0..self.len()).any(|i| self.slides(i))
     }
 
     pub fn fluid_count(&self) -> usize {

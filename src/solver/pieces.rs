@@ -1,6 +1,13 @@
 //! The pressure's Dirichlet set by connected piece of the mesh: a piece sealed from the air
-//! gets one node pinned, a thin piece on slip walls is pinned whole (`pressure.rs` calls both
-//! while it prepares the system).
+//! gets one node pinned, a thin piece on slip walls is pinned whole (`pressure.rs` calls
+//! `pin_pieces` while it prepares the system).
+
+/// Both rules over one labelling of the mesh's connected pieces.
+pub(super) fn pin_pieces(mesh: &Mesh, particles: &Particles, dirichlet: &mut [bool]) {
+    let pieces = mesh.components(particles.len());
+    pin_sealed_components(&pieces, mesh, particles, dirichlet);
+    pin_thin_pieces_on_slip_walls(&pieces, mesh, particles, dirichlet);
+}
 
 use crate::mesh::Mesh;
 use crate::particles::Particles;
@@ -13,7 +20,8 @@ use crate::particles::Particles;
 /// corner got 3.1e7 Pa from one wall node's row and stopped the run (docs/sweep.md). On
 /// no-slip walls a film's wall nodes stand still and their rows keep its area, so those pieces
 /// are left to the solve (pinning them there moved the committed no-slip figures).
-pub(super) fn pin_thin_pieces_on_slip_walls(
+fn pin_thin_pieces_on_slip_walls(
+    (label, count): &(Vec<u32>, usize),
     mesh: &Mesh,
     particles: &Particles,
     dirichlet: &mut [bool],
@@ -21,8 +29,7 @@ pub(super) fn pin_thin_pieces_on_slip_walls(
     if !particles.any_wall_slides() {
         return;
     }
-    let n = particles.len();
-    let (label, count) = mesh.components(n);
+    let (n, count) = (particles.len(), *count);
     let mut interior = vec![false; count];
     for i in 0..n {
         let c = label[i];
@@ -42,9 +49,13 @@ pub(super) fn pin_thin_pieces_on_slip_walls(
 /// pocket whose surface nodes are all wall nodes) would leave the pressure undetermined up to
 /// a constant: pin its highest node to p = 0.
 /// A free-surface node held weakly anchors its piece as well (its Robin term).
-pub(super) fn pin_sealed_components(mesh: &Mesh, particles: &Particles, dirichlet: &mut [bool]) {
-    let n = particles.len();
-    let (label, count) = mesh.components(n);
+fn pin_sealed_components(
+    (label, count): &(Vec<u32>, usize),
+    mesh: &Mesh,
+    particles: &Particles,
+    dirichlet: &mut [bool],
+) {
+    let (n, count) = (particles.len(), *count);
     let mut has_dirichlet = vec![false; count];
     let mut top: Vec<Option<usize>> = vec![None; count];
     for i in 0..n {
@@ -100,7 +111,8 @@ mod tests {
         mesh.in_mesh = vec![true; particles.len()];
         let pinned = |particles: &Particles| {
             let mut dirichlet = mesh.free_surface.clone();
-            pin_thin_pieces_on_slip_walls(&mesh, particles, &mut dirichlet);
+            let pieces = mesh.components(particles.len());
+            pin_thin_pieces_on_slip_walls(&pieces, &mesh, particles, &mut dirichlet);
             dirichlet
         };
         let f = false;

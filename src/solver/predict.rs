@@ -35,10 +35,6 @@ impl Solver {
         if !particles.any_wall_slides() {
             return;
         }
-        // A wall node that slides: on a slip wall, not a corner.
-        let slides = |i: usize| {
-            particles.kind[i] == NodeKind::Wall && particles.wall_tangent[i] != Vector2::zeros()
-        };
         let n = particles.len();
         let mut sum = vec![(Vector2::zeros(), 0usize); n];
         for t in &self.mesh.triangles {
@@ -49,7 +45,7 @@ impl Solver {
                 .fold((Vector2::zeros(), 0), |(sum, k), &j| {
                     (sum + particles.velocity[j], k + 1)
                 });
-            for &w in v.iter().filter(|&&w| slides(w)) {
+            for &w in v.iter().filter(|&&w| particles.slides(w)) {
                 sum[w].0 += total;
                 sum[w].1 += count;
             }
@@ -57,7 +53,7 @@ impl Solver {
         for (i, &(total, count)) in sum.iter().enumerate() {
             if count > 0 {
                 particles.velocity[i] = particles.admissible_velocity(i, total / count as f64);
-            } else if slides(i) {
+            } else if particles.slides(i) {
                 particles.velocity[i] = particles.wall_velocity[i];
             }
         }

@@ -312,8 +312,7 @@ impl Solver {
         dirichlet.clear();
         dirichlet
             .extend((0..n).map(|i| self.surface_pinned(particles, i) || !self.mesh.in_mesh[i]));
-        pieces::pin_sealed_components(&self.mesh, particles, &mut dirichlet);
-        pieces::pin_thin_pieces_on_slip_walls(&self.mesh, particles, &mut dirichlet);
+        pieces::pin_pieces(&self.mesh, particles, &mut dirichlet);
         self.dirichlet = dirichlet;
         self.contact_pressure(particles);
         self.cells.set_topology(&self.mesh, n);
