@@ -333,6 +333,7 @@ fn cmd_run(
         out_dir: out_dir.clone(),
         rrd,
         progress,
+        one_core: false,
     };
     if case.flume.width_m.is_some() {
         return run_3d(&case, &opts);
@@ -412,6 +413,7 @@ fn cmd_validate(
                 out_dir: dir.clone(),
                 rrd: false,
                 progress: true,
+                one_core: false,
             };
             let (figures, drift, status) = if case.flume.width_m.is_some() {
                 let s = surflab::output::run3d::run3d(&case, &opts)?.summary;

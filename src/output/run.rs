@@ -19,6 +19,9 @@ pub struct RunOptions {
     pub rrd: bool,
     /// Show a progress bar on stderr.
     pub progress: bool,
+    /// Step on one core (the solver's second-core thread off): for runs that share the
+    /// machine's cores with each other, as a sweep's jobs do. The results are the same.
+    pub one_core: bool,
 }
 
 /// Failures of the run's set-up or files (not of the numerics, which end in a status).
@@ -59,6 +62,9 @@ pub(super) fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> RunError + '
 pub fn run(case: &Case, opts: &RunOptions) -> Result<RunOutcome, RunError> {
     std::fs::create_dir_all(&opts.out_dir).map_err(io_err(&opts.out_dir))?;
     let mut sim = Simulation::new(case).map_err(|e| RunError::Setup(e.to_string()))?;
+    if opts.one_core {
+        sim.use_one_core();
+    }
     let csv_path = opts.out_dir.join("timeseries.csv");
     let mut csv = TimeseriesWriter::create(&csv_path).map_err(io_err(&csv_path))?;
     let gauge_path = opts.out_dir.join("gauges.csv");

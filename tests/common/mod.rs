@@ -29,6 +29,7 @@ pub fn run_case(case: &Case, test: &str, rrd: bool) -> RunOutcome {
             out_dir: out_dir(test),
             rrd,
             progress: false,
+            one_core: false,
         },
     )
     .expect("run completes its files")
