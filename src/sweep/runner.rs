@@ -103,8 +103,9 @@ pub fn run_sweep(opts: &SweepOptions) -> Result<SweepOutcome, SweepError> {
         }
     }
     let jobs = opts.jobs.min(todo.len()).max(1);
+    let one_core = runs_on_one_core(jobs);
     eprintln!(
-        "surflab sweep: {} — {} point{}{}; {} finished before, {} to run in {} thread{}; output to {}",
+        "surflab sweep: {} — {} point{}{}; {} finished before, {} to run in {} thread{}{}; output to {}",
         spec.case_name,
         points.len(),
         if points.len() == 1 { "" } else { "s" },
@@ -122,9 +123,9 @@ pub fn run_sweep(opts: &SweepOptions) -> Result<SweepOutcome, SweepError> {
         todo.len(),
         jobs,
         if jobs == 1 { "" } else { "s" },
+        if one_core { ", one core a run" } else { "" },
         dir.display()
     );
-    let one_core = runs_on_one_core(jobs);
     let progress = Mutex::new(Progress::new(todo.len()));
     let next = AtomicUsize::new(0);
     std::thread::scope(|scope| {
