@@ -2,15 +2,15 @@
 //! gets one node pinned, a thin piece on slip walls is pinned whole (`pressure.rs` calls
 //! `pin_pieces` while it prepares the system).
 
+use crate::mesh::Mesh;
+use crate::particles::Particles;
+
 /// Both rules over one labelling of the mesh's connected pieces.
 pub(super) fn pin_pieces(mesh: &Mesh, particles: &Particles, dirichlet: &mut [bool]) {
     let pieces = mesh.components(particles.len());
     pin_sealed_components(&pieces, mesh, particles, dirichlet);
     pin_thin_pieces_on_slip_walls(&pieces, mesh, particles, dirichlet);
 }
-
-use crate::mesh::Mesh;
-use crate::particles::Particles;
 
 /// Where the walls slide, a connected piece of the mesh with no interior fluid node (a drop, a
 /// film or a puddle of surface nodes on a wall) has no pressure to solve: every node of it is
