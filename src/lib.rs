@@ -25,6 +25,7 @@ pub mod output;
 pub mod particles;
 pub mod second_core;
 pub mod simulation;
+pub mod simulation3d;
 pub mod solver;
 pub mod solver3d;
 pub mod study;

@@ -279,3 +279,65 @@ fn delta_turned_in_the_panel_makes_polygons_in_the_solver() {
         h.state().worker.status.triangles
     );
 }
+
+/// A 3D tank is a preset like the 2D flumes: the worker steps it, the status counts tetrahedra,
+/// the still tank keeps its water, and a new width (the panel's control for 3D cases) starts the
+/// tank again with more particles.
+#[test]
+fn a_3d_tank_runs_in_the_lab_and_a_new_width_starts_it_again() {
+    let presets = presets_in(&cases_dir());
+    let k = presets
+        .iter()
+        .position(|p| p.name == "tank3d_still")
+        .expect("cases/tank3d_still.toml among the presets");
+    let sinks: SinkFactory = Arc::new(Vec::new);
+    let record = std::env::temp_dir().join(format!("surflab_panel3d_{}.rrd", std::process::id()));
+    let mut h = harness(Panel::new(presets, k, sinks, record, false).expect("panel"));
+    h.run_steps(2);
+    assert_eq!(h.state().controls.width_m, Some(0.2), "the case's width");
+    assert!(has_label_containing(&h, "tank width"), "the width control");
+    assert!(
+        !has_label_containing(&h, "δ (EDT"),
+        "δ is not offered in 3D"
+    );
+    h.get_by_label_contains("Run").click();
+    wait_for(&mut h, 60.0, "the tank to run", |p| {
+        p.worker.status.running && p.worker.status.t_s >= 0.05 && p.worker.status.frames > 1
+    });
+    let s = h.state().worker.status.clone();
+    println!(
+        "tank3d_still in the lab: t = {:.3} s, {} steps, {} particles ({} fluid), {} tetrahedra, \
+         V/V₀ = {:.12}, {:.1} ms/step, error {:?}",
+        s.t_s,
+        s.steps,
+        s.particles,
+        s.fluid_particles,
+        s.triangles,
+        s.volume_ratio,
+        s.ms_per_step,
+        s.error
+    );
+    assert!(s.three_d && s.error.is_none());
+    assert!(s.triangles > 1000, "tetrahedra counted: {}", s.triangles);
+    // Still water keeps its volume to round-off in 3D (docs/three_d.md: drift 7e-15 over 2 s).
+    assert!(
+        (s.volume_ratio - 1.0).abs() < 1e-9,
+        "V/V₀ = {}",
+        s.volume_ratio
+    );
+    assert!(has_label_containing(&h, "tetrahedra (3D)"));
+
+    let before = s.particles;
+    h.state_mut().controls.width_m = Some(0.3);
+    h.state_mut().apply();
+    wait_for(&mut h, 60.0, "the wider tank", |p| {
+        p.worker.status.particles > before && p.worker.status.error.is_none()
+    });
+    let after = h.state().worker.status.particles;
+    println!("width 0.2 → 0.3 m: {before} → {after} particles");
+    // One more layer of nodes every h = 2 cm across: 11 → 16 layers of the same section.
+    assert!(
+        (after as f64 / before as f64 - 16.0 / 11.0).abs() < 0.05,
+        "{before} → {after}"
+    );
+}

@@ -16,8 +16,8 @@ pub struct Preset {
     pub text: String,
 }
 
-/// The 2D case files in `dir`, sorted by name (unreadable files, and 3D cases, whose
-/// `flume.width_m` the lab's 2D flume cannot run yet, are skipped).
+/// The case files in `dir`, 2D flumes and 3D tanks (`flume.width_m`), sorted by name
+/// (unreadable files are skipped).
 pub fn presets_in(dir: &Path) -> Vec<Preset> {
     let mut out: Vec<Preset> = std::fs::read_dir(dir)
         .into_iter()
@@ -27,13 +27,6 @@ pub fn presets_in(dir: &Path) -> Vec<Preset> {
         .filter(|p| p.extension().is_some_and(|e| e == "toml"))
         .filter_map(|path| {
             let text = std::fs::read_to_string(&path).ok()?;
-            let three_d = text
-                .parse::<toml::Table>()
-                .ok()
-                .is_some_and(|t| t.get("flume").and_then(|f| f.get("width_m")).is_some());
-            if three_d {
-                return None;
-            }
             let name = path.file_stem()?.to_string_lossy().into_owned();
             Some(Preset { name, path, text })
         })
@@ -58,6 +51,8 @@ pub struct Controls {
     /// δ of the EDT merge (0: plain Delaunay triangles).
     pub delta: f64,
     pub spacing_m: f64,
+    /// Width of a 3D tank across the flume, m (`flume.width_m`; `None` on a 2D flume).
+    pub width_m: Option<f64>,
 }
 
 impl Controls {
@@ -74,6 +69,7 @@ impl Controls {
             alpha: case.solver.alpha,
             delta: case.solver.delta,
             spacing_m: case.particles.spacing_m,
+            width_m: case.flume.width_m,
         }
     }
 
@@ -103,6 +99,9 @@ impl Controls {
         if let (Some(b), Some(slope)) = (case.flume.beach.as_mut(), self.slope) {
             b.slope = slope;
         }
+        if case.flume.width_m.is_some() {
+            case.flume.width_m = self.width_m;
+        }
     }
 
     /// The case these settings make from `preset`, validated like a file: an error names the
@@ -114,9 +113,12 @@ impl Controls {
         Ok(case)
     }
 
-    /// Does going from `self` to `other` need a new flume (new geometry or particles)?
+    /// Does going from `self` to `other` need a new flume (new geometry or particles)? Any
+    /// change to a 3D tank does (the 3D path has no retune).
     pub fn needs_rebuild(&self, other: &Controls) -> bool {
-        self.slope != other.slope
+        self.width_m.is_some()
+            || other.width_m.is_some()
+            || self.slope != other.slope
             || self.spacing_m != other.spacing_m
             || self.paddle != other.paddle
             || self.theory != other.theory

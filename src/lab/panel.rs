@@ -217,18 +217,35 @@ impl Panel {
                     .max_decimals(2),
             );
             ui.end_row();
-            ui.label("δ (EDT polygons)");
-            ui.add(
-                egui::DragValue::new(&mut c.delta)
-                    .speed(0.002)
-                    .range(0.0..=1.0)
-                    .max_decimals(3),
-            )
-            .on_hover_text(
-                "Delaunay triangles whose circumcentres lie within δ of their mean radius merge \
-                 into one polygon element (thesis eq. 2.2); 0 keeps triangles",
-            );
-            ui.end_row();
+            // The 3D path has no EDT polygons (a case refuses δ there).
+            if c.width_m.is_none() {
+                ui.label("δ (EDT polygons)");
+                ui.add(
+                    egui::DragValue::new(&mut c.delta)
+                        .speed(0.002)
+                        .range(0.0..=1.0)
+                        .max_decimals(3),
+                )
+                .on_hover_text(
+                    "Delaunay triangles whose circumcentres lie within δ of their mean radius \
+                     merge into one polygon element (thesis eq. 2.2); 0 keeps triangles",
+                );
+                ui.end_row();
+            }
+            if let Some(w) = c.width_m.as_mut() {
+                ui.label("tank width (m)");
+                ui.add(
+                    egui::DragValue::new(w)
+                        .speed(0.002)
+                        .range(0.001..=10.0)
+                        .max_decimals(3),
+                )
+                .on_hover_text(
+                    "Width of the 3D tank across the flume (z); every change starts the tank \
+                     again, and the node count grows with it",
+                );
+                ui.end_row();
+            }
             ui.label("resolution h (m)");
             ui.add(
                 egui::DragValue::new(&mut c.spacing_m)
@@ -348,10 +365,17 @@ impl Panel {
                 s.ui_fps_seen
             ));
         }
-        ui.label(format!(
-            "volume V/V₀ = {:.4}; mesh {} triangles, {} EDT polygons",
-            s.volume_ratio, s.triangles, s.polygons
-        ));
+        if s.three_d {
+            ui.label(format!(
+                "volume V/V₀ = {:.4}; mesh {} tetrahedra (3D)",
+                s.volume_ratio, s.triangles
+            ));
+        } else {
+            ui.label(format!(
+                "volume V/V₀ = {:.4}; mesh {} triangles, {} EDT polygons",
+                s.volume_ratio, s.triangles, s.polygons
+            ));
+        }
         ui.label(format!(
             "observed breaker: {}",
             s.breaker.as_deref().unwrap_or("none yet")

@@ -24,6 +24,8 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender};
 use std::time::{Duration, Instant};
 
+mod tank;
+
 /// What the panel asks of the worker.
 #[derive(Debug, Clone)]
 pub enum Command {
@@ -44,6 +46,8 @@ pub enum Command {
 #[derive(Debug, Clone, Default)]
 pub struct Status {
     pub case_name: String,
+    /// A 3D tank (`flume.width_m`): `triangles` then counts tetrahedra.
+    pub three_d: bool,
     pub running: bool,
     pub t_s: f64,
     pub steps: u64,
@@ -240,6 +244,8 @@ impl Drop for WorkerHandle {
 
 struct Worker {
     sim: Option<Simulation>,
+    /// A 3D case runs here instead of in `sim` (one of the two at most).
+    tank: Option<tank::Tank>,
     case: Case,
     sinks: SinkFactory,
     recorder: Option<FrameRecorder>,
@@ -276,6 +282,7 @@ impl Worker {
     ) -> Worker {
         let mut w = Worker {
             sim: None,
+            tank: None,
             case: case.clone(),
             sinks,
             recorder: None,
@@ -340,7 +347,7 @@ impl Worker {
     fn obey(&mut self, c: Command) -> bool {
         match c {
             Command::Run => {
-                if self.sim.is_some() && self.status.error.is_none() {
+                if (self.sim.is_some() || self.tank.is_some()) && self.status.error.is_none() {
                     self.status.running = true;
                 }
             }
@@ -374,6 +381,15 @@ impl Worker {
         };
         self.last_timings = None;
         self.rtf_window = (0.0, 0.0);
+        self.tank = None;
+        if self.case.flume.width_m.is_some() {
+            let case = self.case.clone();
+            self.reset_tank(&case);
+            self.open_logger();
+            self.log();
+            self.report();
+            return;
+        }
         match Simulation::new(&self.case) {
             Ok(mut sim) => {
                 if !solver_gets_two_cores(available_cores()) {
@@ -394,7 +410,7 @@ impl Worker {
 
     /// Wave height and period, α: taken at the next step, without a new flume.
     fn retune(&mut self, case: Case) {
-        let Some(sim) = self.sim.as_mut() else {
+        let Some(sim) = self.sim.as_mut().filter(|_| case.flume.width_m.is_none()) else {
             return self.reset(case);
         };
         sim.retune(&case);
@@ -410,7 +426,9 @@ impl Worker {
     /// recording, to the .rrd file.
     fn open_logger(&mut self) {
         self.recorder = None;
-        let Some(sim) = &self.sim else { return };
+        if self.sim.is_none() && self.tank.is_none() {
+            return;
+        }
         let mut sinks = (self.sinks)();
         if let Some(path) = &self.recording {
             match rerun::sink::FileSink::new(path) {
@@ -422,13 +440,19 @@ impl Worker {
             }
         }
         self.status.recording = self.recording.clone();
-        let opened = rerun::RecordingStreamBuilder::new("surflab")
-            .set_sinks(sinks)
-            .map_err(|e| e.to_string())
-            .and_then(|stream| {
-                stream.set_log_time_enabled(false);
-                FrameRecorder::to_stream(stream, sim, Viewing::Live).map_err(|e| e.to_string())
-            });
+        let stream = match rerun::RecordingStreamBuilder::new("surflab").set_sinks(sinks) {
+            Ok(s) => s,
+            Err(e) => {
+                self.status.error = Some(format!("cannot open the recording: {e}"));
+                return;
+            }
+        };
+        let Some(sim) = &self.sim else {
+            return self.open_tank_logger(stream);
+        };
+        stream.set_log_time_enabled(false);
+        let opened =
+            FrameRecorder::to_stream(stream, sim, Viewing::Live).map_err(|e| e.to_string());
         match opened {
             Ok(r) => self.recorder = Some(r),
             Err(e) => self.status.error = Some(format!("cannot open the recording: {e}")),
@@ -437,6 +461,9 @@ impl Worker {
 
     /// Steps for one frame's budget (at most `max_steps`), then logs a frame.
     fn frame(&mut self, max_steps: usize) {
+        if self.tank.is_some() {
+            return self.tank_frame(max_steps);
+        }
         let Some(sim) = self.sim.as_mut() else {
             self.status.running = false;
             return;
@@ -518,6 +545,9 @@ impl Worker {
     }
 
     fn log(&mut self) {
+        if self.tank.is_some() {
+            return self.log_tank();
+        }
         let (Some(sim), Some(recorder)) = (&self.sim, self.recorder.as_mut()) else {
             return;
         };
@@ -558,6 +588,7 @@ impl Worker {
     }
 
     fn report(&mut self) {
+        self.report_tank();
         if let Some(sim) = &self.sim {
             self.status.t_s = sim.time_s;
             self.status.steps = sim.steps;

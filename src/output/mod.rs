@@ -6,6 +6,7 @@ pub mod breaker_map;
 pub mod colormap;
 pub mod recorder;
 pub mod rrd;
+pub mod rrd3d;
 pub mod run;
 pub mod run3d;
 pub mod summary;

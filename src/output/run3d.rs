@@ -4,18 +4,15 @@
 //! nodes); `summary.json` at the end, whatever the end was. Numerical trouble ends the run with
 //! a status; what was recorded stays readable.
 
-use super::colormap::ColorScale;
-use super::rrd::SIM_TIMELINE;
+use super::rrd3d::Recorder3;
 use super::run::{Progress, RunError, RunOptions, io_err};
 use super::summary::{RunFigures, median};
 use super::timeseries::{GaugeWriter, gauge_columns};
 use crate::case::Case;
-use crate::solver3d::{Flow3, Integrals3, STAGES_3D, setup};
-use crate::waves::paddle::PaddleMotion;
-use rerun::{RecordingStream, RecordingStreamBuilder};
+use crate::simulation3d::Simulation3;
+use crate::solver3d::{Flow3, Integrals3, STAGES_3D};
 use serde::Serialize;
 use std::io::Write;
-use std::path::Path;
 use std::time::Instant;
 
 /// One output time of a 3D run.
@@ -40,6 +37,28 @@ pub struct Row3 {
     pub remeshes_m3: f64,
     #[serde(flatten)]
     pub integrals: Integrals3,
+}
+
+impl Row3 {
+    /// The row of `sim` as it stands; the counters since the previous row are taken from it.
+    pub fn of(sim: &mut Simulation3) -> Row3 {
+        let l = sim.take_counts();
+        let last = sim.last;
+        Row3 {
+            t_s: sim.time_s,
+            dt_s: sim.last_dt_s,
+            steps: sim.steps,
+            volume_m3: sim.volume_m3(),
+            tetrahedra: last.map_or(0, |s| s.tetrahedra),
+            slivers_kept: last.map_or(0, |s| s.slivers_kept),
+            guarded: l.guarded,
+            inserted: l.inserted,
+            removed: l.removed,
+            moves_m3: l.moves_m3,
+            remeshes_m3: l.remeshes_m3,
+            integrals: sim.flow.integrals(),
+        }
+    }
 }
 
 /// `summary.json` of a 3D run.
@@ -106,19 +125,11 @@ pub fn gauge_values(case: &Case, flow: &Flow3) -> Vec<Option<f64>> {
         .collect()
 }
 
-/// Runs the 3D `case` to `case.time.end_s` (Δt: the CFL policy's bound on the fastest fluid
-/// particle, `time.dt_max_s` and the surface-wave bound, as in 2D, cut to land on every output
-/// time).
+/// Runs the 3D `case` to `case.time.end_s` (Δt: [`Simulation3::dt_for`], cut to land on every
+/// output time).
 pub fn run3d(case: &Case, opts: &RunOptions) -> Result<Run3Outcome, RunError> {
     std::fs::create_dir_all(&opts.out_dir).map_err(io_err(&opts.out_dir))?;
-    let mut flow = setup::from_case(case).map_err(|e| RunError::Setup(e.to_string()))?;
-    // The piston's path (the case was validated, so its motion exists); the solver is told
-    // one step ahead where the face is to be.
-    let paddle = match (case.wavemaker.as_ref(), PaddleMotion::from_case(case)) {
-        (Some(w), Some(Ok(motion))) => Some((w.x_m, motion)),
-        (_, Some(Err(e))) => return Err(RunError::Setup(e.to_string())),
-        _ => None,
-    };
+    let mut sim = Simulation3::new(case).map_err(|e| RunError::Setup(e.to_string()))?;
     let csv_path = opts.out_dir.join("timeseries.csv");
     let mut csv =
         std::io::BufWriter::new(std::fs::File::create(&csv_path).map_err(io_err(&csv_path))?);
@@ -129,7 +140,7 @@ pub fn run3d(case: &Case, opts: &RunOptions) -> Result<Run3Outcome, RunError> {
         message: e,
     };
     let mut rrd = if opts.rrd {
-        Some(Recorder3::create(&rrd_path, case, &flow).map_err(rrd_err)?)
+        Some(Recorder3::create(&rrd_path, case, &sim.flow).map_err(rrd_err)?)
     } else {
         None
     };
@@ -145,107 +156,47 @@ pub fn run3d(case: &Case, opts: &RunOptions) -> Result<Run3Outcome, RunError> {
     let flow_width = case.flume.width_m.unwrap_or(1.0);
     let end_s = case.time.end_s;
     let interval = case.output.interval_s;
-    let initial_volume = flow
-        .mesh_now()
-        .map_err(|e| RunError::Setup(e.to_string()))?;
+    let initial_volume = sim.initial_volume_m3;
     let mut rows = Vec::new();
     let mut stage_ms: Vec<Vec<f64>> = vec![Vec::new(); STAGES_3D.len()];
     let mut step_ms = Vec::new();
-    let (mut t, mut steps, mut particle_steps) = (0.0f64, 0u64, 0.0f64);
+    let mut particle_steps = 0.0f64;
     let mut progress = Progress::new(opts.progress, end_s);
     let started = Instant::now();
-    let mut row = Row3 {
-        t_s: 0.0,
-        dt_s: 0.0,
-        steps: 0,
-        volume_m3: initial_volume,
-        tetrahedra: 0,
-        slivers_kept: 0,
-        guarded: 0,
-        inserted: 0,
-        removed: 0,
-        moves_m3: 0.0,
-        remeshes_m3: 0.0,
-        integrals: flow.integrals(),
-    };
-    let mut last_moved = initial_volume;
     let mut status = "ok".to_owned();
     let mut k = 0u64;
     loop {
         // Record the row of this output time.
-        row.t_s = t;
-        row.steps = steps;
-        row.integrals = flow.integrals();
+        let row = Row3::of(&mut sim);
         write_row(&mut csv, &row, initial_volume, flow_width)
             .and_then(|()| csv.flush())
             .map_err(io_err(&csv_path))?;
-        let eta = gauge_values(case, &flow);
+        let eta = gauge_values(case, &sim.flow);
         if let Some(g) = gauges.as_mut() {
-            g.row(t, &eta).map_err(io_err(&gauge_path))?;
+            g.row(row.t_s, &eta).map_err(io_err(&gauge_path))?;
         }
         if let Some(r) = rrd.as_mut() {
-            r.log(&flow, &row, initial_volume).map_err(rrd_err)?;
+            r.log(&sim.flow, &row, initial_volume).map_err(rrd_err)?;
             r.log_gauges(&gauge_columns, &eta).map_err(rrd_err)?;
         }
         rows.push(row);
-        row.guarded = 0;
-        row.inserted = 0;
-        row.removed = 0;
-        if t >= end_s - 1e-12 || status != "ok" {
+        if sim.time_s >= end_s - 1e-12 || status != "ok" {
             break;
         }
         k += 1;
         let target = (k as f64 * interval).min(end_s);
-        while t < target - 1e-12 {
-            let speed = flow.max_fluid_speed();
-            if !speed.is_finite() {
-                status = format!(
-                    "stopped at t = {t:.5} s (step {steps}): the flow diverged (a particle's speed \
-                     is {speed})"
-                );
-                break;
-            }
-            let mut dt = step_for(case, &flow);
-            if dt < case.time.dt_min_s {
-                status = format!(
-                    "stopped at t = {t:.5} s (step {steps}): Δt = {dt:.2e} s is below \
-                     time.dt_min_s = {} s (the fastest particle moves at {speed:.3} m/s)",
-                    case.time.dt_min_s
-                );
-                break;
-            }
-            // Land on the output time rather than step a sliver past it.
-            let left = target - t;
-            if dt >= left || left < 1.5 * dt {
-                dt = if dt >= left { left } else { 0.5 * left };
-            }
-            let t_next = if dt == left { target } else { t + dt };
-            if let Some((x_rest, motion)) = &paddle {
-                flow.drive_piston(x_rest + motion.displacement_m(t_next));
-            }
-            match flow.step(dt) {
+        while sim.time_s < target - 1e-12 {
+            match sim.step_towards(target) {
                 Ok(s) => {
-                    t = t_next;
-                    steps += 1;
-                    particle_steps += flow.x.len() as f64;
+                    particle_steps += sim.flow.x.len() as f64;
                     for (k, ms) in s.stage_ms.iter().enumerate() {
                         stage_ms[k].push(*ms);
                     }
                     step_ms.push(s.stage_ms.iter().sum());
-                    row.dt_s = dt;
-                    row.remeshes_m3 += s.volume_m3 - last_moved;
-                    row.moves_m3 += s.moved_volume_m3 - s.volume_m3;
-                    last_moved = s.moved_volume_m3;
-                    row.volume_m3 = s.volume_m3;
-                    row.tetrahedra = s.tetrahedra;
-                    row.slivers_kept = s.slivers_kept;
-                    row.guarded += s.guarded;
-                    row.inserted += s.nodes.inserted;
-                    row.removed += s.nodes.removed;
-                    progress.update(t, steps);
+                    progress.update(sim.time_s, sim.steps);
                 }
                 Err(e) => {
-                    status = format!("stopped at t = {t:.5} s (step {steps}): {e}");
+                    status = e;
                     break;
                 }
             }
@@ -258,15 +209,14 @@ pub fn run3d(case: &Case, opts: &RunOptions) -> Result<Run3Outcome, RunError> {
         r.flush();
     }
     let wall_s = started.elapsed().as_secs_f64();
-    let fluid = flow.walls.iter().filter(|&&w| w == 0).count();
     let summary = Summary3 {
         parameters: case.clone(),
         status,
         run: RunFigures::new(
-            flow.x.len(),
-            fluid,
-            steps,
-            t,
+            sim.flow.x.len(),
+            sim.fluid_count(),
+            sim.steps,
+            sim.time_s,
             wall_s,
             particle_steps,
             median(&step_ms),
@@ -287,22 +237,12 @@ pub fn run3d(case: &Case, opts: &RunOptions) -> Result<Run3Outcome, RunError> {
     Ok(Run3Outcome { summary, rows })
 }
 
-/// One row; `volume_m2` is the volume per metre of width (m³ / width), the 2D series' unit.
-/// The 3D run's Δt for the flow's state, s: `time.dt_max_s`, the CFL bound
-/// `time.cfl · h / (fastest fluid particle or moving wall)` and the surface-wave bound, as in
-/// 2D.
+/// The 3D run's Δt for the flow's state, s ([`Simulation3::dt_for`]).
 pub fn step_for(case: &Case, flow: &Flow3) -> f64 {
-    let h = case.particles.spacing_m;
-    let speed = flow.max_fluid_speed().max(flow.wall_speed());
-    let cfl_dt = if speed > 0.0 {
-        case.time.cfl * h / speed
-    } else {
-        f64::INFINITY
-    };
-    let surface_dt = case.time.surface_wave_dt_s(h, case.fluid.gravity_m_s2);
-    case.time.dt_max_s.min(cfl_dt).min(surface_dt)
+    Simulation3::dt_for(case, flow)
 }
 
+/// One row; `volume_m2` is the volume per metre of width (m³ / width), the 2D series' unit.
 fn write_row(out: &mut impl Write, r: &Row3, v0: f64, width_m: f64) -> std::io::Result<()> {
     let i = &r.integrals;
     writeln!(
@@ -328,218 +268,4 @@ fn write_row(out: &mut impl Write, r: &Row3, v0: f64, width_m: f64) -> std::io::
         r.moves_m3,
         r.remeshes_m3
     )
-}
-
-/// The layout: the tank in 3D over two thirds of the height; below it the planes z = const,
-/// one 2D view each, and the plots in tabs; the viewer's side panels collapsed.
-fn send_blueprint(
-    rec: &RecordingStream,
-    planes_z_m: &[f64],
-) -> Result<(), rerun::RecordingStreamError> {
-    use rerun::blueprint::components::PanelState;
-    use rerun::blueprint::{
-        Blueprint, BlueprintActivation, BlueprintPanel, ContainerLike, Horizontal, SelectionPanel,
-        Spatial2DView, Spatial3DView, Tabs, TimePanel, TimeSeriesView, Vertical,
-    };
-    let tank: ContainerLike = Spatial3DView::new("tank (x along, y up, z across)")
-        .with_origin("/world")
-        .into();
-    let mut below: Vec<ContainerLike> = planes_z_m
-        .iter()
-        .map(|z| {
-            Spatial2DView::new(format!("plane z = {z:.3} m"))
-                .with_origin(format!("/planes/z={z:.3}"))
-                .into()
-        })
-        .collect();
-    below.push(
-        Tabs::new([
-            TimeSeriesView::new("volume V/V₀")
-                .with_origin("/plots/volume_ratio")
-                .into(),
-            TimeSeriesView::new("front x (m)")
-                .with_origin("/plots/front_x_m")
-                .into(),
-            TimeSeriesView::new("max speed (m/s)")
-                .with_origin("/plots/max_speed_m_s")
-                .into(),
-        ])
-        .into(),
-    );
-    let root = Vertical::new([tank, Horizontal::new(below).into()]).with_row_shares([2.0, 1.0]);
-    Blueprint::new(root)
-        .with_blueprint_panel(BlueprintPanel::new().with_state(PanelState::Collapsed))
-        .with_selection_panel(SelectionPanel::new().with_state(PanelState::Collapsed))
-        .with_time_panel(
-            TimePanel::new()
-                .with_timeline(SIM_TIMELINE)
-                .with_state(PanelState::Collapsed),
-        )
-        .send(rec, BlueprintActivation::default())
-}
-
-/// The 3D recording: `world/particles` (fluid, coloured by u1 with the case's range),
-/// `world/walls` (the wall nodes in the mesh), `world/free_surface` (the α-shape's surface
-/// triangles), the tank's edges (static), `planes/z=<z>/particles` (the fluid particles within
-/// h/2 of each plane of `output.planes_z_m`, as x, y points coloured by u1), and the scalars
-/// `plots/volume_ratio`, `plots/front_x_m` and `plots/max_speed_m_s`, on the `sim_time`
-/// timeline.
-struct Recorder3 {
-    rec: RecordingStream,
-    scale: ColorScale,
-    radius_m: f32,
-    planes_z_m: Vec<f64>,
-}
-
-impl Recorder3 {
-    fn create(path: &Path, case: &Case, flow: &Flow3) -> Result<Self, String> {
-        let rec = RecordingStreamBuilder::new("surflab")
-            .save(path)
-            .map_err(|e| e.to_string())?;
-        rec.set_log_time_enabled(false);
-        let (lo, hi) = case.u1_range();
-        let f = &case.flume;
-        let (l, ht, w) = (
-            f.length_m as f32,
-            f.height_m as f32,
-            f.width_m.unwrap_or(0.0) as f32,
-        );
-        let c = |x: f32, y: f32, z: f32| [x, y, z];
-        let edges = vec![
-            vec![
-                c(0., 0., 0.),
-                c(l, 0., 0.),
-                c(l, 0., w),
-                c(0., 0., w),
-                c(0., 0., 0.),
-            ],
-            vec![
-                c(0., ht, 0.),
-                c(l, ht, 0.),
-                c(l, ht, w),
-                c(0., ht, w),
-                c(0., ht, 0.),
-            ],
-            vec![c(0., 0., 0.), c(0., ht, 0.)],
-            vec![c(l, 0., 0.), c(l, ht, 0.)],
-            vec![c(l, 0., w), c(l, ht, w)],
-            vec![c(0., 0., w), c(0., ht, w)],
-        ];
-        rec.log_static(
-            "world/tank",
-            &rerun::LineStrips3D::new(edges).with_colors([[120u8, 120, 120]]),
-        )
-        .map_err(|e| e.to_string())?;
-        rec.log_static("world", &rerun::ViewCoordinates::RIGHT_HAND_Y_UP())
-            .map_err(|e| e.to_string())?;
-        send_blueprint(&rec, &case.output.planes_z_m).map_err(|e| e.to_string())?;
-        Ok(Self {
-            rec,
-            scale: ColorScale::new(lo, hi),
-            radius_m: (0.4 * flow.h_m) as f32,
-            planes_z_m: case.output.planes_z_m.clone(),
-        })
-    }
-
-    fn log(&mut self, flow: &Flow3, row: &Row3, v0: f64) -> Result<(), String> {
-        let e = |err: rerun::RecordingStreamError| err.to_string();
-        self.rec.set_duration_secs(SIM_TIMELINE, row.t_s);
-        let to32 = |p: &[f64; 3]| p.map(|c| c as f32);
-        let (mut fluid, mut colours, mut walls) = (Vec::new(), Vec::new(), Vec::new());
-        for i in 0..flow.x.len() {
-            if flow.walls[i] == 0 {
-                fluid.push(to32(&flow.x[i]));
-                colours.push(self.scale.color(flow.u[i][0]));
-            } else if flow.in_mesh.get(i).copied().unwrap_or(false) {
-                walls.push(to32(&flow.x[i]));
-            }
-        }
-        self.rec
-            .log(
-                "world/particles",
-                &rerun::Points3D::new(fluid)
-                    .with_colors(colours)
-                    .with_radii([rerun::Radius::new_scene_units(self.radius_m)]),
-            )
-            .map_err(e)?;
-        self.rec
-            .log(
-                "world/walls",
-                &rerun::Points3D::new(walls)
-                    .with_colors([[150u8, 150, 150]])
-                    .with_radii([rerun::Radius::new_scene_units(0.5 * self.radius_m)]),
-            )
-            .map_err(e)?;
-        // The surface as its own small vertex list.
-        let mut index = std::collections::HashMap::new();
-        let (mut vertices, mut vertex_colours) = (Vec::new(), Vec::new());
-        let triangles: Vec<[u32; 3]> = flow
-            .surface
-            .iter()
-            .map(|f| {
-                f.map(|i| {
-                    *index.entry(i).or_insert_with(|| {
-                        vertices.push(to32(&flow.x[i as usize]));
-                        vertex_colours.push(self.scale.color(flow.u[i as usize][0]));
-                        (vertices.len() - 1) as u32
-                    })
-                })
-            })
-            .collect();
-        self.rec
-            .log(
-                "world/free_surface",
-                &rerun::Mesh3D::new(vertices)
-                    .with_triangle_indices(triangles)
-                    .with_vertex_colors(vertex_colours),
-            )
-            .map_err(e)?;
-        // The planes z = const: the particles within h/2 of each, seen from the side.
-        for &z in &self.planes_z_m {
-            let (mut xy, mut colours) = (Vec::new(), Vec::new());
-            for i in 0..flow.x.len() {
-                if flow.walls[i] == 0 && (flow.x[i][2] - z).abs() <= 0.5 * flow.h_m {
-                    xy.push([flow.x[i][0] as f32, flow.x[i][1] as f32]);
-                    colours.push(self.scale.color(flow.u[i][0]));
-                }
-            }
-            self.rec
-                .log(
-                    format!("planes/z={z:.3}/particles"),
-                    &rerun::Points2D::new(xy)
-                        .with_colors(colours)
-                        .with_radii([rerun::Radius::new_scene_units(self.radius_m)]),
-                )
-                .map_err(e)?;
-        }
-        let i = &row.integrals;
-        for (path, v) in [
-            ("plots/volume_ratio", row.volume_m3 / v0),
-            ("plots/front_x_m", i.front_x_m),
-            ("plots/max_speed_m_s", i.max_speed_m_s),
-        ] {
-            if v.is_finite() {
-                self.rec.log(path, &rerun::Scalars::single(v)).map_err(e)?;
-            }
-        }
-        Ok(())
-    }
-
-    /// The gauges' η as scalar plots `gauges/<column>` (nothing for a dry gauge).
-    fn log_gauges(&mut self, columns: &[String], eta: &[Option<f64>]) -> Result<(), String> {
-        for (name, v) in columns.iter().zip(eta) {
-            if let Some(v) = v {
-                self.rec
-                    .log(format!("gauges/{name}"), &rerun::Scalars::single(*v))
-                    .map_err(|e| e.to_string())?;
-            }
-        }
-        Ok(())
-    }
-
-    fn flush(&self) {
-        if let Err(e) = self.rec.flush_blocking() {
-            eprintln!("warning: flushing the rerun recording failed: {e}");
-        }
-    }
 }

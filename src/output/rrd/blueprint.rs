@@ -86,70 +86,75 @@ impl RrdLogger {
                 },
             ));
         match (self.flume_window_m.get(), flume_view) {
-            (Some(window), Some(view)) => self.send_with_bounds(&blueprint, &view, window),
+            (Some(window), Some(view)) => {
+                send_with_bounds(&self.rec, &blueprint, &[(view, window)])
+            }
             _ => Ok(blueprint.send(&self.rec, BlueprintActivation::default())?),
         }
     }
+}
 
-    /// Sends `blueprint` with the 2D view at `view` opened on `window_m`. Rerun 0.36's Rust
-    /// blueprint API cannot set a 2D view's visual bounds (`../shared/stack.md`), but the
-    /// viewer reads them from the blueprint store like any other view property. So the
-    /// blueprint is sent into a memory sink, the bounds are logged into the same blueprint
-    /// store (same recording id, the `blueprint` timeline at 0, the view's path), and all of it
-    /// goes to the recording with the blueprint's own activation command.
-    fn send_with_bounds(
-        &self,
-        blueprint: &Blueprint,
-        view: &EntityPath,
-        window_m: [f64; 4],
-    ) -> Result<(), RrdError> {
-        use rerun::external::re_sdk_types::blueprint::archetypes::VisualBounds2D;
-        use rerun::external::re_sdk_types::datatypes::{Range1D, Range2D};
-        use rerun::log::LogMsg;
-        let app = self
-            .rec
-            .store_info()
-            .map_or_else(|| "surflab".into(), |i| i.application_id().clone());
-        let sent = captured(RecordingStreamBuilder::new(app.clone()), |capture| {
-            Ok(blueprint.send(capture, BlueprintActivation::default())?)
-        })?;
-        let mut messages = Vec::new();
-        let mut activation = None;
-        for msg in sent {
-            match msg {
-                LogMsg::BlueprintActivationCommand(cmd) => activation = Some(cmd),
-                m if m.store_id().kind() == rerun::StoreKind::Blueprint => messages.push(m),
-                _ => {}
-            }
+/// Sends `blueprint` to `rec` with each 2D view of `views` (its blueprint path, and a window
+/// [x0, x1, y0, y1] in metres, physical y up) opened on its window. Rerun 0.36's Rust blueprint
+/// API cannot set a 2D view's visual bounds (`../shared/stack.md`), but the viewer reads them
+/// from the blueprint store like any other view property. So the blueprint is sent into a
+/// memory sink, the bounds are logged into the same blueprint store (same recording id, the
+/// `blueprint` timeline at 0, the view's path), and all of it goes to the recording with the
+/// blueprint's own activation command. The views' spaces must hold their entities under a
+/// y-flip (Rerun's 2D views draw +y downwards), as the flume's `world` and the 3D recording's
+/// planes do.
+pub(crate) fn send_with_bounds(
+    rec: &RecordingStream,
+    blueprint: &Blueprint,
+    views: &[(EntityPath, [f64; 4])],
+) -> Result<(), RrdError> {
+    use rerun::external::re_sdk_types::blueprint::archetypes::VisualBounds2D;
+    use rerun::external::re_sdk_types::datatypes::{Range1D, Range2D};
+    use rerun::log::LogMsg;
+    let app = rec
+        .store_info()
+        .map_or_else(|| "surflab".into(), |i| i.application_id().clone());
+    let sent = captured(RecordingStreamBuilder::new(app.clone()), |capture| {
+        Ok(blueprint.send(capture, BlueprintActivation::default())?)
+    })?;
+    let mut messages = Vec::new();
+    let mut activation = None;
+    for msg in sent {
+        match msg {
+            LogMsg::BlueprintActivationCommand(cmd) => activation = Some(cmd),
+            m if m.store_id().kind() == rerun::StoreKind::Blueprint => messages.push(m),
+            _ => {}
         }
-        let (Some(activation), Some(store)) =
-            (activation, messages.first().map(|m| m.store_id().clone()))
-        else {
-            return Ok(blueprint.send(&self.rec, BlueprintActivation::default())?);
-        };
-        let builder = RecordingStreamBuilder::new(app)
-            .recording_id(store.recording_id().clone())
-            .blueprint();
-        let logged = captured(builder, |bounds| {
-            bounds.set_time_sequence("blueprint", 0);
-            // The view's space is the root, where `world`'s flip makes physical y point down.
-            let [x0, x1, y0, y1] = window_m;
-            Ok(bounds.log(
+    }
+    let (Some(activation), Some(store)) =
+        (activation, messages.first().map(|m| m.store_id().clone()))
+    else {
+        return Ok(blueprint.send(rec, BlueprintActivation::default())?);
+    };
+    let builder = RecordingStreamBuilder::new(app)
+        .recording_id(store.recording_id().clone())
+        .blueprint();
+    let logged = captured(builder, |bounds| {
+        bounds.set_time_sequence("blueprint", 0);
+        for (view, [x0, x1, y0, y1]) in views {
+            // In the view's space the flip makes physical y point down.
+            bounds.log(
                 format!("{view}/VisualBounds2D"),
                 &VisualBounds2D::new(Range2D {
-                    x_range: Range1D([x0, x1]),
+                    x_range: Range1D([*x0, *x1]),
                     y_range: Range1D([-y1, -y0]),
                 }),
-            )?)
-        })?;
-        messages.extend(
-            logged
-                .into_iter()
-                .filter(|m| !matches!(m, LogMsg::SetStoreInfo(_))),
-        );
-        self.rec.send_blueprint(messages, activation);
+            )?;
+        }
         Ok(())
-    }
+    })?;
+    messages.extend(
+        logged
+            .into_iter()
+            .filter(|m| !matches!(m, LogMsg::SetStoreInfo(_))),
+    );
+    rec.send_blueprint(messages, activation);
+    Ok(())
 }
 
 /// What `log` sends to a new stream of `builder` with a memory sink. A memory sink holds a

@@ -616,5 +616,6 @@ fn node(positions: &[Vector2<f64>], i: u32, what: &str) -> Result<[f32; 2], RrdE
 }
 
 mod blueprint;
+pub(crate) use blueprint::send_with_bounds;
 #[cfg(test)]
 mod tests;

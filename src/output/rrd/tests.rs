@@ -544,3 +544,51 @@ fn polygons_are_outlined_and_their_diagonals_left_out() {
     );
     std::fs::remove_file(&path).ok();
 }
+
+/// The 3D recording's planes z = const: each plane's particles under a y-flip (physical y up in
+/// a 2D view), and each plane's view opened on the whole side of the tank (its bounds in the
+/// blueprint), as the 2D flume's view is.
+#[test]
+fn the_3d_planes_are_upright_and_opened_on_the_tank() {
+    let case_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/tank3d_still.toml");
+    let case = crate::case::Case::load(&case_path, &["output.planes_z_m=[0.05, 0.1]".into()])
+        .expect("the still tank with two planes");
+    let mut sim = crate::simulation3d::Simulation3::new(&case).expect("set up");
+    let path = temp_rrd("planes3d");
+    let mut rec = crate::output::rrd3d::Recorder3::create(&path, &case, &sim.flow).expect("create");
+    let v0 = sim.initial_volume_m3;
+    let row = crate::output::run3d::Row3::of(&mut sim);
+    rec.log(&sim.flow, &row, v0).expect("frame");
+    rec.flush();
+    drop(rec);
+    let msgs = read_rrd(&path);
+    let s = summarize(&msgs);
+    for z in ["0.050", "0.100"] {
+        assert_eq!(
+            // The entity path escapes the `=`.
+            s.rows.get(&format!("/planes/z\\={z}")),
+            Some(&1),
+            "the flip of plane {z}: {:?}",
+            s.rows
+        );
+        assert_eq!(
+            s.rows.get(&format!("/planes/z\\={z}/particles")),
+            Some(&1),
+            "{:?}",
+            s.rows
+        );
+    }
+    let bounds: Vec<String> = msgs
+        .iter()
+        .filter(|m| m.store_id().kind() == StoreKind::Blueprint)
+        .filter_map(|m| match m {
+            LogMsg::ArrowMsg(_, arrow) => Some(Chunk::from_arrow_msg(arrow).expect("chunk")),
+            _ => None,
+        })
+        .map(|c| c.entity_path().to_string())
+        .filter(|p| p.ends_with("/VisualBounds2D"))
+        .collect();
+    println!("3D planes: bounds logged at {bounds:?}");
+    assert_eq!(bounds.len(), 2, "{bounds:?}");
+    let _ = std::fs::remove_file(&path);
+}
