@@ -12,7 +12,7 @@ mod elements;
 mod filter;
 mod motion;
 mod nodes;
-mod ordering;
+pub(crate) mod ordering;
 mod pieces;
 mod predict;
 pub mod pressure;

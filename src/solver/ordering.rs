@@ -12,13 +12,54 @@
 //! 0.9 ms where AMD took about 3 ms, and although its factor has more entries (204 000
 //! against 118 000) they fall into dense blocks, so the supernodal factorisation takes
 //! 2.8–3.2 ms against 4.6–5.8 ms for AMD's simplicial one.
+//!
+//! The same cut serves the 3D pressure on tetrahedra (positions in three dimensions), where a
+//! separator holds about n^(2/3) nodes.
+
+use faer::sparse::SymbolicSparseColMatRef;
+use faer::sparse::linalg::SupernodalThreshold;
+use faer::sparse::linalg::cholesky::{
+    CholeskySymbolicParams, SymbolicCholesky, SymmetricOrdering, factorize_symbolic_cholesky,
+};
 
 /// Node sets at most this large are not split further (8–64 measured alike; 16 was best).
 const LEAF_NODES: usize = 16;
 
+/// Symbolic Cholesky analysis of a symmetric pattern (full CSR = CSC) whose rows are nodes at
+/// `position` (2D or 3D): nested-dissection ordering, supernodal structure.
+pub fn symbolic_cholesky<const D: usize>(
+    position: &[[f64; D]],
+    row_ptr: &[usize],
+    col: &[usize],
+) -> Result<SymbolicCholesky<usize>, String> {
+    let n = position.len();
+    let order = nested_dissection(position, row_ptr, col);
+    let mut inverse = vec![0; n];
+    for (k, &i) in order.iter().enumerate() {
+        inverse[i] = k;
+    }
+    let permutation = faer::perm::PermRef::new_checked(&order, &inverse, n);
+    let pattern = SymbolicSparseColMatRef::new_checked(n, n, row_ptr, None, col);
+    let params = CholeskySymbolicParams {
+        supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+        ..Default::default()
+    };
+    factorize_symbolic_cholesky(
+        pattern,
+        faer::Side::Lower,
+        SymmetricOrdering::Custom(permutation),
+        params,
+    )
+    .map_err(|e| format!("symbolic Cholesky analysis failed: {e:?}"))
+}
+
 /// The elimination order of the nodes at `position` whose symmetric adjacency is the CSR
 /// pattern (`row_ptr`, `col`): `order[k]` is the node eliminated k-th.
-pub fn nested_dissection(position: &[[f64; 2]], row_ptr: &[usize], col: &[usize]) -> Vec<usize> {
+pub fn nested_dissection<const D: usize>(
+    position: &[[f64; D]],
+    row_ptr: &[usize],
+    col: &[usize],
+) -> Vec<usize> {
     let n = position.len();
     assert_eq!(row_ptr.len(), n + 1, "one pattern row per node");
     let mut cut = Cut {
@@ -33,8 +74,8 @@ pub fn nested_dissection(position: &[[f64; 2]], row_ptr: &[usize], col: &[usize]
     cut.order
 }
 
-struct Cut<'a> {
-    position: &'a [[f64; 2]],
+struct Cut<'a, const D: usize> {
+    position: &'a [[f64; D]],
     row_ptr: &'a [usize],
     col: &'a [usize],
     /// The label of the part each node was last put in.
@@ -43,21 +84,28 @@ struct Cut<'a> {
     order: Vec<usize>,
 }
 
-impl Cut<'_> {
+impl<const D: usize> Cut<'_, D> {
     fn dissect(&mut self, mut nodes: Vec<usize>) {
         if nodes.len() <= LEAF_NODES {
             self.order.extend_from_slice(&nodes);
             return;
         }
         let pos = self.position;
-        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        let (mut lo, mut hi) = ([f64::INFINITY; D], [f64::NEG_INFINITY; D]);
         for &i in &nodes {
-            for a in 0..2 {
+            for a in 0..D {
                 lo[a] = lo[a].min(pos[i][a]);
                 hi[a] = hi[a].max(pos[i][a]);
             }
         }
-        let axis = usize::from(hi[1] - lo[1] > hi[0] - lo[0]);
+        // The longest extent (the first of equal ones).
+        let axis = (1..D).fold(0, |best, a| {
+            if hi[a] - lo[a] > hi[best] - lo[best] {
+                a
+            } else {
+                best
+            }
+        });
         let mid = nodes.len() / 2;
         nodes.select_nth_unstable_by(mid, |&a, &b| pos[a][axis].total_cmp(&pos[b][axis]));
         let (lower, upper) = (self.next_part, self.next_part + 1);

@@ -43,10 +43,7 @@ use crate::mesh::edt::MAX_POLYGON_NODES;
 use crate::particles::Particles;
 use crate::second_core::Pending;
 use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::sparse::linalg::SupernodalThreshold;
-use faer::sparse::linalg::cholesky::{
-    CholeskySymbolicParams, SymbolicCholesky, SymmetricOrdering, factorize_symbolic_cholesky,
-};
+use faer::sparse::linalg::cholesky::SymbolicCholesky;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use nalgebra::Vector2;
 use std::sync::Arc;
@@ -92,25 +89,7 @@ fn analyse(
     row_ptr: &[usize],
     col: &[usize],
 ) -> Result<SymbolicCholesky<usize>, String> {
-    let n = position.len();
-    let order = super::ordering::nested_dissection(position, row_ptr, col);
-    let mut inverse = vec![0; n];
-    for (k, &i) in order.iter().enumerate() {
-        inverse[i] = k;
-    }
-    let permutation = faer::perm::PermRef::new_checked(&order, &inverse, n);
-    let pattern = SymbolicSparseColMatRef::new_checked(n, n, row_ptr, None, col);
-    let params = CholeskySymbolicParams {
-        supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
-        ..Default::default()
-    };
-    factorize_symbolic_cholesky(
-        pattern,
-        faer::Side::Lower,
-        SymmetricOrdering::Custom(permutation),
-        params,
-    )
-    .map_err(|e| format!("symbolic Cholesky analysis failed: {e:?}"))
+    super::ordering::symbolic_cholesky(position, row_ptr, col)
 }
 
 impl PressureSystem {

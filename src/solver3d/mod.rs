@@ -15,8 +15,8 @@ pub use nodes::{INSERT_RADIUS_3D_OVER_2D, NodeChanges3};
 pub use piston::Piston3;
 
 pub use pressure::{
-    CHOLESKY_LIMIT_UNKNOWNS, CHOLESKY_MAX_UNKNOWNS, FLAT_QUALITY, PressureError, Solver3,
-    WeakSurface, correct, elements, pressure,
+    CHOLESKY_LIMIT_UNKNOWNS, CHOLESKY_MAX_UNKNOWNS, FLAT_QUALITY, NESTED_DISSECTION_UNKNOWNS,
+    PressureError, Solver3, WeakSurface, correct, elements, pressure,
 };
 
 use crate::fem::tet::P1Tet;
@@ -193,6 +193,7 @@ impl Flow3 {
         let u_star = self.predict(&mesh, &shape, &elements, dt_s);
         lap(3);
         let (p, iterations) = pressure(
+            &self.x,
             &mesh,
             &shape,
             &elements,

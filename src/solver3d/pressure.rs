@@ -8,7 +8,6 @@
 use crate::fem::tet::{P1Tet, p1_tet};
 use crate::mesh3d::{AlphaShape, Tetrahedralisation};
 use faer::Side;
-use faer::prelude::Solve;
 use faer::sparse::{SparseColMat, Triplet};
 use nalgebra::Vector3;
 
@@ -41,12 +40,20 @@ pub enum Solver3 {
     Auto,
 }
 
-/// Where Cholesky stops paying in 3D (`surflab bench3d`, still tank, this 2-core VM): the
-/// pressure stage took 135 against 154 ms (CG, 345 iterations) at 10 976 nodes, 414 against
-/// 342 (408) at 19 652, 2 260 against 1 060 (552) at 48 668 and 10 288 against 2 656 (698) at
-/// 97 556; the fill of a 3D factor grows faster than CG's iterations. (CG needed twice the
-/// iterations while flat tetrahedra were in the operators, and the crossing was near 70 000.)
-pub const CHOLESKY_MAX_UNKNOWNS: usize = 15_000;
+/// Where Cholesky stops paying in 3D (`surflab bench3d`, still tank, this 2-core VM, one
+/// sitting): with the nested-dissection ordering the pressure stage took 256 against 290 ms
+/// (CG, 408 iterations) at 19 652 nodes, 972 against 909 (553) at 48 668 and 2 819 against
+/// 2 130 (697) at 97 556; the fill of a 3D factor grows faster than CG's iterations. (With
+/// faer's own ordering at every size Cholesky took 311, 1 817 and 10 288 ms and stopped paying
+/// near 15 000.)
+pub const CHOLESKY_MAX_UNKNOWNS: usize = 40_000;
+
+/// From this many unknowns the 3D Cholesky factor is ordered by nested dissection of the
+/// nodes' positions (`solver::ordering`); below, faer's own ordering is faster (`surflab
+/// bench3d --solver cholesky`, pressure stage, one sitting: 5 000 nodes 33 against 39 ms,
+/// 7 000 57 against 61, 10 976 117 against 112, 19 652 311 against 248, 48 668 1 817 against
+/// 944; the dam break's first 60 steps, about 4 000 unknowns, 28 against 35 ms).
+pub const NESTED_DISSECTION_UNKNOWNS: usize = 10_000;
 
 /// The largest system a 3D Cholesky factor is allowed: its fill grows like n^(4/3), and it
 /// held 1.1 GB at 97 556 nodes, so about 5 GB here.
@@ -100,7 +107,8 @@ pub struct WeakSurface<'a> {
 
 /// The pressure (Pa) at every node (0 off the mesh, and on the free surface unless `weak`) for
 /// the predicted velocity `u_star` (m/s), density `rho` (kg/m³) and step `dt_s`, and the
-/// solver's iterations (0 for Cholesky); `elements` as [`elements`] gives them.
+/// solver's iterations (0 for Cholesky); `elements` as [`elements`] gives them, `points` the
+/// nodes' positions (m; the Cholesky factor's ordering cuts the nodes by position).
 ///
 /// `fixed` (Pa per node) is the pressure imposed on the nodes without a row (0 if `None`): the
 /// free surface's, 0 but at a wall's contact points (`Flow3::contact_pressure`).
@@ -114,6 +122,7 @@ pub struct WeakSurface<'a> {
 /// still exact under a flat surface.
 #[allow(clippy::too_many_arguments)]
 pub fn pressure(
+    points: &[[f64; 3]],
     mesh: &Tetrahedralisation,
     shape: &AlphaShape,
     elements: &[P1Tet],
@@ -155,6 +164,9 @@ pub fn pressure(
             limit: CHOLESKY_LIMIT_UNKNOWNS,
         });
     }
+    // The whole matrix for CG (which multiplies by it) and for the nested-dissection ordering
+    // (which reads its graph); the lower triangle, which the factor reads, otherwise.
+    let whole = solver == Solver3::Cg || count >= NESTED_DISSECTION_UNKNOWNS;
     let mut triplets = Vec::with_capacity(16 * shape.kept.len());
     let mut rhs = vec![0.0; count];
     for (&t, e) in shape.kept.iter().zip(elements) {
@@ -176,8 +188,7 @@ pub fn pressure(
                     if fixed != 0.0 {
                         rhs[row as usize] -= k() * fixed;
                     }
-                } else if col <= row || solver == Solver3::Cg {
-                    // Cholesky reads the lower triangle; CG needs the whole matrix.
+                } else if col <= row || whole {
                     triplets.push(Triplet::new(row as usize, col as usize, k()));
                 }
             }
@@ -230,10 +241,13 @@ pub fn pressure(
     let b = faer::Mat::<f64>::from_fn(count, 1, |i, _| rhs[i]);
     let (x, iterations) = match solver {
         Solver3::Cholesky => {
-            let llt = k
-                .sp_cholesky(Side::Lower)
-                .map_err(|_| PressureError::NotDefinite)?;
-            (llt.solve(&b), 0)
+            let mut position = vec![[0.0; 3]; count];
+            for (i, &r) in unknown.iter().enumerate() {
+                if r != u32::MAX {
+                    position[r as usize] = points[i];
+                }
+            }
+            (cholesky_solve(&k, &position, b)?, 0)
         }
         Solver3::Cg | Solver3::Auto => {
             use faer::dyn_stack::{MemBuffer, MemStack};
@@ -286,6 +300,49 @@ pub fn pressure(
         }
     }
     Ok((p, iterations))
+}
+
+/// Solves K x = b by a sparse Cholesky factor of the symmetric positive definite `k` (its
+/// lower triangle read; both triangles stored from [`NESTED_DISSECTION_UNKNOWNS`] unknowns on)
+/// whose unknowns lie at `position`: from [`NESTED_DISSECTION_UNKNOWNS`] on,
+/// nested-dissection ordering by position (as the 2D pressure's) and a supernodal factor;
+/// below, faer's own ordering and choice. One thread.
+fn cholesky_solve(
+    k: &SparseColMat<usize, f64>,
+    position: &[[f64; 3]],
+    mut b: faer::Mat<f64>,
+) -> Result<faer::Mat<f64>, PressureError> {
+    use faer::dyn_stack::{MemBuffer, MemStack};
+    use faer::prelude::Solve;
+    if position.len() < NESTED_DISSECTION_UNKNOWNS {
+        let llt = k
+            .sp_cholesky(Side::Lower)
+            .map_err(|_| PressureError::NotDefinite)?;
+        return Ok(llt.solve(&b));
+    }
+    let pattern = k.symbolic();
+    let symbolic =
+        crate::solver::ordering::symbolic_cholesky(position, pattern.col_ptr(), pattern.row_idx())
+            .map_err(PressureError::Matrix)?;
+    let par = faer::Par::Seq;
+    let mut factor = vec![0.0; symbolic.len_val()];
+    let scratch = symbolic
+        .factorize_numeric_llt_scratch::<f64>(par, Default::default())
+        .or(symbolic.solve_in_place_scratch::<f64>(1, par));
+    let mut mem = MemBuffer::new(scratch);
+    let llt = symbolic
+        .factorize_numeric_llt(
+            &mut factor,
+            k.as_ref(),
+            Side::Lower,
+            Default::default(),
+            par,
+            MemStack::new(&mut mem),
+            Default::default(),
+        )
+        .map_err(|_| PressureError::NotDefinite)?;
+    llt.solve_in_place_with_conj(faer::Conj::No, b.as_mut(), par, MemStack::new(&mut mem));
+    Ok(b)
 }
 
 /// The end-of-step velocity u = u* − (Δt/ρ) ∇p, ∇p the lumped nodal gradient (m/s); nodes off
