@@ -6,6 +6,7 @@
 //! the tank is in `piston`, node management in `nodes`, the pressure equation and the
 //! correction in `pressure`.
 
+mod ic0;
 pub mod nodes;
 pub mod piston;
 pub mod pressure;

@@ -34,19 +34,23 @@ pub enum PressureError {
 pub enum Solver3 {
     /// faer's sparse Cholesky (its own fill-reducing ordering), factored every step.
     Cholesky,
-    /// Jacobi-preconditioned conjugate gradients to a relative residual of 1e-10, from zero.
+    /// Conjugate gradients preconditioned by incomplete Cholesky (IC(0), `ic0`) to a relative
+    /// residual of 1e-10, from zero.
     Cg,
     /// Cholesky up to [`CHOLESKY_MAX_UNKNOWNS`], CG above.
     Auto,
 }
 
-/// Where Cholesky stops paying in 3D (`surflab bench3d`, still tank, this 2-core VM, one
-/// sitting): with the nested-dissection ordering the pressure stage took 256 against 290 ms
-/// (CG, 408 iterations) at 19 652 nodes, 972 against 909 (553) at 48 668 and 2 819 against
-/// 2 130 (697) at 97 556; the fill of a 3D factor grows faster than CG's iterations. (With
-/// faer's own ordering at every size Cholesky took 311, 1 817 and 10 288 ms and stopped paying
-/// near 15 000.)
-pub const CHOLESKY_MAX_UNKNOWNS: usize = 40_000;
+/// Where Cholesky stops paying in 3D, against CG with the incomplete-Cholesky preconditioner
+/// (one sitting, this 2-core VM). On a compact tank CG wins early: the still tank of `surflab
+/// bench3d` (pressure stage) 39–42 against 36–38 ms (46 iterations) at 5 000 nodes, 108–110
+/// against 94–96 (60) at 10 976, 247 against 197–202 (74) at 19 652, 972 against 618–647 (104)
+/// at 48 668. On a thin one the factor's fill is nearly that of 2D and CG needs more
+/// iterations: the dam break's first 60 steps (about 4 000 unknowns) 27–28 against 45 ms (103
+/// iterations), and its whole run (up to about 10 000 unknowns late) 82 s against 93 s with CG
+/// from 8 000 unknowns. Hence Cholesky up to 20 000. (With Jacobi's preconditioner CG took 408,
+/// 553 and 697 iterations at 19 652, 48 668 and 97 556 nodes and Cholesky paid up to 40 000.)
+pub const CHOLESKY_MAX_UNKNOWNS: usize = 20_000;
 
 /// From this many unknowns the 3D Cholesky factor is ordered by nested dissection of the
 /// nodes' positions (`solver::ordering`); below, faer's own ordering is faster (`surflab
@@ -254,18 +258,8 @@ pub fn pressure(
             use faer::matrix_free::conjugate_gradient::{
                 CgParams, conjugate_gradient, conjugate_gradient_scratch,
             };
-            let mut dinv = faer::diag::Diag::<f64>::zeros(count);
-            for (j, col) in (0..count).map(|j| (j, k.as_ref().col_range(j))) {
-                let rows = &k.as_ref().symbolic().row_idx()[col.clone()];
-                let vals = &k.as_ref().val()[col];
-                let d = rows
-                    .iter()
-                    .zip(vals)
-                    .find(|(r, _)| **r == j)
-                    .map_or(0.0, |(_, v)| *v);
-                dinv[j] = if d > 0.0 { 1.0 / d } else { 1.0 };
-            }
-            let precond = dinv.as_ref();
+            let ic = super::ic0::Ic0::new(&k).map_err(PressureError::Diverged)?;
+            let precond = &ic;
             let par = faer::Par::Seq;
             let mut mem = MemBuffer::new(conjugate_gradient_scratch(precond, k.as_ref(), 1, par));
             let mut x = faer::Mat::<f64>::zeros(count, 1);
