@@ -144,7 +144,7 @@ enum Command {
         /// Number of steps to time (Δt = 10 ms).
         #[arg(long, default_value_t = 5)]
         steps: u64,
-        /// The pressure solver: cholesky, cg, or auto (Cholesky up to 20 000 unknowns).
+        /// The pressure solver: cholesky, cg, or auto (Cholesky up to 10 000 unknowns).
         #[arg(long, default_value = "auto")]
         solver: String,
     },

@@ -8,7 +8,7 @@
 use crate::fem::tet::{P1Tet, p1_tet};
 use crate::mesh3d::{AlphaShape, Tetrahedralisation};
 use faer::Side;
-use faer::sparse::{SparseColMat, Triplet};
+use faer::sparse::SparseColMat;
 use nalgebra::Vector3;
 
 /// Why a pressure solve could not be made.
@@ -42,15 +42,15 @@ pub enum Solver3 {
 }
 
 /// Where Cholesky stops paying in 3D, against CG with the incomplete-Cholesky preconditioner
-/// (one sitting, this 2-core VM). On a compact tank CG wins early: the still tank of `surflab
-/// bench3d` (pressure stage) 39–42 against 36–38 ms (46 iterations) at 5 000 nodes, 108–110
-/// against 94–96 (60) at 10 976, 247 against 197–202 (74) at 19 652, 972 against 618–647 (104)
-/// at 48 668. On a thin one the factor's fill is nearly that of 2D and CG needs more
-/// iterations: the dam break's first 60 steps (about 4 000 unknowns) 27–28 against 45 ms (103
-/// iterations), and its whole run (up to about 10 000 unknowns late) 82 s against 93 s with CG
-/// from 8 000 unknowns. Hence Cholesky up to 20 000. (With Jacobi's preconditioner CG took 408,
-/// 553 and 697 iterations at 19 652, 48 668 and 97 556 nodes and Cholesky paid up to 40 000.)
-pub const CHOLESKY_MAX_UNKNOWNS: usize = 20_000;
+/// (the matrix assembled in compressed columns; one sitting, this 2-core VM). On a compact tank
+/// CG wins at every size: the still tank of `surflab bench3d` (pressure stage) 11.5 against
+/// 7.6 ms (40 iterations) at 3 000 nodes, 23 against 16 (46) at 5 000, 65 against 46 (60) at
+/// 10 976, 153–162 against 100–102 (74) at 19 652, 698–784 against 349–354 (104) at 48 668. On
+/// a thin one the factor's fill is nearly that of 2D and CG needs more iterations: the dam
+/// break's first 60 steps (about 4 000 unknowns) 22 against 25 ms (102 iterations), and its
+/// whole run (up to about 10 000 unknowns) 75 s with Cholesky throughout against 79 s with CG
+/// from 5 000 unknowns. Hence Cholesky up to 10 000.
+pub const CHOLESKY_MAX_UNKNOWNS: usize = 10_000;
 
 /// From this many unknowns the 3D Cholesky factor is ordered by nested dissection of the
 /// nodes' positions (`solver::ordering`); below, faer's own ordering is faster (`surflab
@@ -171,7 +171,6 @@ pub fn pressure(
     // The whole matrix for CG (which multiplies by it) and for the nested-dissection ordering
     // (which reads its graph); the lower triangle, which the factor reads, otherwise.
     let whole = solver == Solver3::Cg || count >= NESTED_DISSECTION_UNKNOWNS;
-    let mut triplets = Vec::with_capacity(16 * shape.kept.len());
     let mut rhs = vec![0.0; count];
     for (&t, e) in shape.kept.iter().zip(elements) {
         let v = mesh.tets[t as usize];
@@ -184,20 +183,17 @@ pub fn pressure(
             }
             rhs[row as usize] += rho / dt_s * e.volume * e.grad[a].dot(&mean_u);
             for b in 0..4 {
-                let col = unknown[v[b] as usize];
-                let k = || e.volume * e.grad[a].dot(&e.grad[b]);
-                if col == u32::MAX {
-                    // A node of imposed pressure (0 but at a contact point) moves to the right.
+                // A node of imposed pressure (0 but at a contact point) moves to the right.
+                if unknown[v[b] as usize] == u32::MAX {
                     let fixed = fixed_at(v[b]);
                     if fixed != 0.0 {
-                        rhs[row as usize] -= k() * fixed;
+                        rhs[row as usize] -= e.volume * e.grad[a].dot(&e.grad[b]) * fixed;
                     }
-                } else if col <= row || whole {
-                    triplets.push(Triplet::new(row as usize, col as usize, k()));
                 }
             }
         }
     }
+    let mut matrix = Assembly::new(mesh, shape, elements, &unknown, count, whole);
     if let Some(w) = weak {
         for f in &shape.surface {
             let [a, b, c] = f.map(|i| Vector3::from(w.points[i as usize]));
@@ -212,11 +208,7 @@ pub fn pressure(
                 if row == u32::MAX {
                     continue;
                 }
-                triplets.push(Triplet::new(
-                    row as usize,
-                    row as usize,
-                    area / 3.0 / w.length_m,
-                ));
+                matrix.add_to_diagonal(row as usize, area / 3.0 / w.length_m);
                 rhs[row as usize] -= rho / dt_s * area / 3.0 * u_star[i as usize].dot(&normal);
             }
         }
@@ -240,8 +232,7 @@ pub fn pressure(
     if count == 0 {
         return Ok((p, 0));
     }
-    let k = SparseColMat::<usize, f64>::try_new_from_triplets(count, count, &triplets)
-        .map_err(|e| PressureError::Matrix(format!("{e:?}")))?;
+    let k = matrix.into_matrix()?;
     let b = faer::Mat::<f64>::from_fn(count, 1, |i, _| rhs[i]);
     let (x, iterations) = match solver {
         Solver3::Cholesky => {
@@ -294,6 +285,108 @@ pub fn pressure(
         }
     }
     Ok((p, iterations))
+}
+
+/// The pressure matrix Σ_e V b_i·b_j over the kept tetrahedra, on the unknowns, in compressed
+/// columns built straight from the tetrahedra around each node (no triplets to sort): column
+/// r holds the unknowns that share a kept tetrahedron with r's node, in order; with `whole`
+/// all of them, else those ≥ r (the lower triangle, which the factor reads).
+struct Assembly {
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    val: Vec<f64>,
+    /// Where each column's diagonal entry is.
+    diag: Vec<usize>,
+}
+
+impl Assembly {
+    fn new(
+        mesh: &Tetrahedralisation,
+        shape: &AlphaShape,
+        elements: &[P1Tet],
+        unknown: &[u32],
+        count: usize,
+        whole: bool,
+    ) -> Assembly {
+        // The kept tetrahedra (as indices into `shape.kept`) around each unknown's node, with
+        // the node's place in the tetrahedron.
+        let mut start = vec![0usize; count + 1];
+        for &t in &shape.kept {
+            for &i in &mesh.tets[t as usize] {
+                let r = unknown[i as usize];
+                if r != u32::MAX {
+                    start[r as usize + 1] += 1;
+                }
+            }
+        }
+        for r in 0..count {
+            start[r + 1] += start[r];
+        }
+        let mut around = vec![(0u32, 0u8); start[count]];
+        let mut fill = start.clone();
+        for (k, &t) in shape.kept.iter().enumerate() {
+            for (a, &i) in mesh.tets[t as usize].iter().enumerate() {
+                let r = unknown[i as usize];
+                if r != u32::MAX {
+                    around[fill[r as usize]] = (k as u32, a as u8);
+                    fill[r as usize] += 1;
+                }
+            }
+        }
+        let mut col_ptr = Vec::with_capacity(count + 1);
+        col_ptr.push(0);
+        let (mut row_idx, mut val) = (Vec::new(), Vec::new());
+        let mut diag = Vec::with_capacity(count);
+        // `slot[c]`: where unknown c sits in the column being built (valid while `mark[c]` is
+        // that column).
+        let (mut mark, mut slot) = (vec![u32::MAX; count], vec![0usize; count]);
+        for r in 0..count {
+            let first = row_idx.len();
+            for &(k, _) in &around[start[r]..start[r + 1]] {
+                for &j in &mesh.tets[shape.kept[k as usize] as usize] {
+                    let c = unknown[j as usize];
+                    if c != u32::MAX && mark[c as usize] != r as u32 && (whole || c as usize >= r) {
+                        mark[c as usize] = r as u32;
+                        row_idx.push(c as usize);
+                    }
+                }
+            }
+            row_idx[first..].sort_unstable();
+            val.resize(row_idx.len(), 0.0);
+            for (s, &c) in row_idx[first..].iter().enumerate() {
+                slot[c] = first + s;
+            }
+            diag.push(slot[r]);
+            for &(k, a) in &around[start[r]..start[r + 1]] {
+                let e = &elements[k as usize];
+                let v = mesh.tets[shape.kept[k as usize] as usize];
+                for (b, &j) in v.iter().enumerate() {
+                    let c = unknown[j as usize];
+                    if c != u32::MAX && mark[c as usize] == r as u32 {
+                        val[slot[c as usize]] += e.volume * e.grad[a as usize].dot(&e.grad[b]);
+                    }
+                }
+            }
+            col_ptr.push(row_idx.len());
+        }
+        Assembly {
+            col_ptr,
+            row_idx,
+            val,
+            diag,
+        }
+    }
+
+    fn add_to_diagonal(&mut self, r: usize, v: f64) {
+        self.val[self.diag[r]] += v;
+    }
+
+    fn into_matrix(self) -> Result<SparseColMat<usize, f64>, PressureError> {
+        let n = self.diag.len();
+        let symbolic =
+            faer::sparse::SymbolicSparseColMat::new_checked(n, n, self.col_ptr, None, self.row_idx);
+        Ok(SparseColMat::new(symbolic, self.val))
+    }
 }
 
 /// Solves K x = b by a sparse Cholesky factor of the symmetric positive definite `k` (its
