@@ -174,6 +174,16 @@ pub fn solver_gets_two_cores(cores: usize) -> bool {
     cores >= 4
 }
 
+/// What the status says of a panic in a step: its message.
+fn panic_failure(panic: &(dyn std::any::Any + Send)) -> String {
+    let what = panic
+        .downcast_ref::<String>()
+        .cloned()
+        .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
+        .unwrap_or_else(|| "unknown panic".into());
+    format!("the solver panicked: {what}")
+}
+
 /// Sinks the recording stream always feeds (the embedded viewer; nothing in tests).
 pub type SinkFactory = Arc<dyn Fn() -> Vec<Box<dyn LogSink>> + Send + Sync>;
 
@@ -499,25 +509,13 @@ impl Worker {
             Ok(Ok(())) => None,
             Ok(Err(e)) => Some(e),
             Err(panic) => {
-                let what = panic
-                    .downcast_ref::<String>()
-                    .cloned()
-                    .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
-                    .unwrap_or_else(|| "unknown panic".into());
                 // The state may be half-updated: drop it; a reset starts afresh.
                 self.sim = None;
-                Some(format!("the solver panicked: {what}"))
+                Some(panic_failure(panic.as_ref()))
             }
         };
-        // Wall time of this frame: its work and the rest the pacer took before it.
-        let wall = (started.elapsed() + self.pacer.rest).as_secs_f64();
         if let Some(sim) = &self.sim {
-            let sim_dt = sim.time_s - t_start;
-            // Exponential smoothing of the real-time factor over a few frames.
-            self.rtf_window = (
-                0.8 * self.rtf_window.0 + sim_dt,
-                0.8 * self.rtf_window.1 + wall,
-            );
+            self.smooth_real_time_factor(sim.time_s - t_start, started);
             if steps > 0 {
                 let n = steps as f64;
                 self.status.ms_per_step = sum.total_ms() / n;
@@ -542,6 +540,16 @@ impl Worker {
             self.log();
         }
         self.report();
+    }
+
+    /// Adds a frame that simulated `sim_dt_s` and started at `started` (its work and the rest
+    /// the pacer took before it) to the real-time factor, smoothed over a few frames.
+    fn smooth_real_time_factor(&mut self, sim_dt_s: f64, started: Instant) {
+        let wall = (started.elapsed() + self.pacer.rest).as_secs_f64();
+        self.rtf_window = (
+            0.8 * self.rtf_window.0 + sim_dt_s,
+            0.8 * self.rtf_window.1 + wall,
+        );
     }
 
     fn log(&mut self) {

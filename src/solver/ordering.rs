@@ -16,11 +16,12 @@
 //! The same cut serves the 3D pressure on tetrahedra (positions in three dimensions), where a
 //! separator holds about n^(2/3) nodes.
 
-use faer::sparse::SymbolicSparseColMatRef;
+use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::linalg::cholesky::{
     CholeskySymbolicParams, SymbolicCholesky, SymmetricOrdering, factorize_symbolic_cholesky,
 };
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 
 /// Node sets at most this large are not split further (8–64 measured alike; 16 was best).
 const LEAF_NODES: usize = 16;
@@ -51,6 +52,38 @@ pub fn symbolic_cholesky<const D: usize>(
         params,
     )
     .map_err(|e| format!("symbolic Cholesky analysis failed: {e:?}"))
+}
+
+/// Factors `matrix` (its lower triangle) numerically on `symbolic` into `factor` (resized; its
+/// memory kept by the caller between steps) and solves for `b` in place, on one thread (the
+/// lab leaves the other core to the window). An error means the matrix is not positive
+/// definite.
+pub fn factor_and_solve(
+    symbolic: &SymbolicCholesky<usize>,
+    matrix: SparseColMatRef<'_, usize, f64>,
+    factor: &mut Vec<f64>,
+    b: faer::MatMut<'_, f64>,
+) -> Result<(), String> {
+    let par = faer::Par::Seq;
+    factor.clear();
+    factor.resize(symbolic.len_val(), 0.0);
+    let scratch = symbolic
+        .factorize_numeric_llt_scratch::<f64>(par, Default::default())
+        .or(symbolic.solve_in_place_scratch::<f64>(1, par));
+    let mut mem = MemBuffer::new(scratch);
+    let llt = symbolic
+        .factorize_numeric_llt(
+            factor,
+            matrix,
+            faer::Side::Lower,
+            Default::default(),
+            par,
+            MemStack::new(&mut mem),
+            Default::default(),
+        )
+        .map_err(|e| format!("sparse Cholesky failed ({e:?}): matrix not positive definite"))?;
+    llt.solve_in_place_with_conj(faer::Conj::No, b, par, MemStack::new(&mut mem));
+    Ok(())
 }
 
 /// The elimination order of the nodes at `position` whose symmetric adjacency is the CSR

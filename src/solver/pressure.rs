@@ -42,7 +42,6 @@ use crate::case::PressureSolver;
 use crate::mesh::edt::MAX_POLYGON_NODES;
 use crate::particles::Particles;
 use crate::second_core::Pending;
-use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::cholesky::SymbolicCholesky;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use nalgebra::Vector2;
@@ -201,36 +200,14 @@ impl PressureSystem {
                     Some(s) => s.clone(),
                     None => Arc::new(analyse(&self.position, &self.row_ptr, &self.col)?),
                 };
-                // One thread: the symbolic analysis has finished, and the lab leaves the
-                // other core to the window.
-                let par = faer::Par::Seq;
                 let mut factor = std::mem::take(&mut self.factor);
-                factor.clear();
-                factor.resize(symbolic.len_val(), 0.0);
-                let scratch = symbolic
-                    .factorize_numeric_llt_scratch::<f64>(par, Default::default())
-                    .or(symbolic.solve_in_place_scratch::<f64>(1, par));
-                let mut mem = MemBuffer::new(scratch);
-                let llt = symbolic
-                    .factorize_numeric_llt(
-                        &mut factor,
-                        self.matrix(),
-                        faer::Side::Lower,
-                        Default::default(),
-                        par,
-                        MemStack::new(&mut mem),
-                        Default::default(),
-                    )
-                    .map_err(|e| {
-                        format!("sparse Cholesky failed ({e:?}): matrix not positive definite")
-                    })?;
                 let mut b = faer::Mat::<f64>::from_fn(n, 1, |i, _| self.rhs[i]);
-                llt.solve_in_place_with_conj(
-                    faer::Conj::No,
+                super::ordering::factor_and_solve(
+                    &symbolic,
+                    self.matrix(),
+                    &mut factor,
                     b.as_mut(),
-                    par,
-                    MemStack::new(&mut mem),
-                );
+                )?;
                 for i in 0..n {
                     self.x[i] = b[(i, 0)];
                 }

@@ -399,7 +399,6 @@ fn cholesky_solve(
     position: &[[f64; 3]],
     mut b: faer::Mat<f64>,
 ) -> Result<faer::Mat<f64>, PressureError> {
-    use faer::dyn_stack::{MemBuffer, MemStack};
     use faer::prelude::Solve;
     if position.len() < NESTED_DISSECTION_UNKNOWNS {
         let llt = k
@@ -411,24 +410,9 @@ fn cholesky_solve(
     let symbolic =
         crate::solver::ordering::symbolic_cholesky(position, pattern.col_ptr(), pattern.row_idx())
             .map_err(PressureError::Matrix)?;
-    let par = faer::Par::Seq;
-    let mut factor = vec![0.0; symbolic.len_val()];
-    let scratch = symbolic
-        .factorize_numeric_llt_scratch::<f64>(par, Default::default())
-        .or(symbolic.solve_in_place_scratch::<f64>(1, par));
-    let mut mem = MemBuffer::new(scratch);
-    let llt = symbolic
-        .factorize_numeric_llt(
-            &mut factor,
-            k.as_ref(),
-            Side::Lower,
-            Default::default(),
-            par,
-            MemStack::new(&mut mem),
-            Default::default(),
-        )
+    let mut factor = Vec::new();
+    crate::solver::ordering::factor_and_solve(&symbolic, k.as_ref(), &mut factor, b.as_mut())
         .map_err(|_| PressureError::NotDefinite)?;
-    llt.solve_in_place_with_conj(faer::Conj::No, b.as_mut(), par, MemStack::new(&mut mem));
     Ok(b)
 }
 

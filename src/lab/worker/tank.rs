@@ -3,7 +3,7 @@
 //! the viewer. A change of any setting starts the tank again (there is no retune in 3D), and
 //! there is no surf zone to watch (no beach in 3D yet).
 
-use super::{LOG_INTERVAL, Worker};
+use super::{LOG_INTERVAL, Worker, panic_failure};
 use crate::case::Case;
 use crate::output::rrd3d::Recorder3;
 use crate::output::run3d::Row3;
@@ -84,22 +84,13 @@ impl Worker {
             Ok(Ok(())) => None,
             Ok(Err(e)) => Some(e),
             Err(panic) => {
-                let what = panic
-                    .downcast_ref::<String>()
-                    .cloned()
-                    .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
-                    .unwrap_or_else(|| "unknown panic".into());
+                // The state may be half-updated: drop it; a reset starts afresh.
                 self.tank = None;
-                Some(format!("the solver panicked: {what}"))
+                Some(panic_failure(panic.as_ref()))
             }
         };
-        let wall = (started.elapsed() + self.pacer.rest).as_secs_f64();
         if let Some(tank) = &self.tank {
-            let sim_dt = tank.sim.time_s - t_start;
-            self.rtf_window = (
-                0.8 * self.rtf_window.0 + sim_dt,
-                0.8 * self.rtf_window.1 + wall,
-            );
+            self.smooth_real_time_factor(tank.sim.time_s - t_start, started);
             if steps > 0 {
                 let n = steps as f64;
                 self.status.ms_per_step = stage_sum.iter().sum::<f64>() / n;

@@ -28,6 +28,19 @@ struct Summary {
     blueprint_msgs: usize,
 }
 
+/// The blueprint paths at which 2D views' bounds were logged.
+fn visual_bounds_paths(msgs: &[LogMsg]) -> Vec<String> {
+    msgs.iter()
+        .filter(|m| m.store_id().kind() == StoreKind::Blueprint)
+        .filter_map(|m| match m {
+            LogMsg::ArrowMsg(_, arrow) => Some(Chunk::from_arrow_msg(arrow).expect("chunk")),
+            _ => None,
+        })
+        .map(|c| c.entity_path().to_string())
+        .filter(|p| p.ends_with("/VisualBounds2D"))
+        .collect()
+}
+
 fn summarize(msgs: &[LogMsg]) -> Summary {
     let mut s = Summary {
         rows: BTreeMap::new(),
@@ -483,16 +496,7 @@ fn the_breaker_map_and_the_surf_zone_window_are_recorded() {
     assert_eq!(s.rows.get("/breaker_map/run"), Some(&2), "{:?}", s.rows);
     // A clear before the first breaker (a new wave has no mark), then the mark.
     assert_eq!(s.rows.get("/world/breaker"), Some(&2), "{:?}", s.rows);
-    let bounds: Vec<String> = msgs
-        .iter()
-        .filter(|m| m.store_id().kind() == StoreKind::Blueprint)
-        .filter_map(|m| match m {
-            LogMsg::ArrowMsg(_, arrow) => Some(Chunk::from_arrow_msg(arrow).expect("chunk")),
-            _ => None,
-        })
-        .map(|c| c.entity_path().to_string())
-        .filter(|p| p.ends_with("/VisualBounds2D"))
-        .collect();
+    let bounds = visual_bounds_paths(&msgs);
     println!("bounds logged at {bounds:?}");
     // Sent with the map's tab and again with the window: the second blueprint carries them.
     assert_eq!(bounds.len(), 1, "{bounds:?}");
@@ -578,16 +582,7 @@ fn the_3d_planes_are_upright_and_opened_on_the_tank() {
             s.rows
         );
     }
-    let bounds: Vec<String> = msgs
-        .iter()
-        .filter(|m| m.store_id().kind() == StoreKind::Blueprint)
-        .filter_map(|m| match m {
-            LogMsg::ArrowMsg(_, arrow) => Some(Chunk::from_arrow_msg(arrow).expect("chunk")),
-            _ => None,
-        })
-        .map(|c| c.entity_path().to_string())
-        .filter(|p| p.ends_with("/VisualBounds2D"))
-        .collect();
+    let bounds = visual_bounds_paths(&msgs);
     println!("3D planes: bounds logged at {bounds:?}");
     assert_eq!(bounds.len(), 2, "{bounds:?}");
     let _ = std::fs::remove_file(&path);
