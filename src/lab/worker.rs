@@ -174,14 +174,21 @@ pub fn solver_gets_two_cores(cores: usize) -> bool {
     cores >= 4
 }
 
-/// What the status says of a panic in a step: its message.
-fn panic_failure(panic: &(dyn std::any::Any + Send)) -> String {
-    let what = panic
-        .downcast_ref::<String>()
-        .cloned()
-        .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
-        .unwrap_or_else(|| "unknown panic".into());
-    format!("the solver panicked: {what}")
+/// What a frame's steps (run under `catch_unwind`) leave for the status: the failure, if any,
+/// and whether it was a panic (then the state may be half-updated and is dropped).
+fn frame_failure(outcome: std::thread::Result<Result<(), String>>) -> (Option<String>, bool) {
+    match outcome {
+        Ok(Ok(())) => (None, false),
+        Ok(Err(e)) => (Some(e), false),
+        Err(panic) => {
+            let what = panic
+                .downcast_ref::<String>()
+                .cloned()
+                .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
+                .unwrap_or_else(|| "unknown panic".into());
+            (Some(format!("the solver panicked: {what}")), true)
+        }
+    }
 }
 
 /// Sinks the recording stream always feeds (the embedded viewer; nothing in tests).
@@ -505,15 +512,11 @@ impl Worker {
             }
             Ok(())
         }));
-        let failure = match outcome {
-            Ok(Ok(())) => None,
-            Ok(Err(e)) => Some(e),
-            Err(panic) => {
-                // The state may be half-updated: drop it; a reset starts afresh.
-                self.sim = None;
-                Some(panic_failure(panic.as_ref()))
-            }
-        };
+        let (failure, panicked) = frame_failure(outcome);
+        if panicked {
+            // The state may be half-updated: drop it; a reset starts afresh.
+            self.sim = None;
+        }
         if let Some(sim) = &self.sim {
             self.smooth_real_time_factor(sim.time_s - t_start, started);
             if steps > 0 {
@@ -523,6 +526,15 @@ impl Worker {
                 self.last_timings = Some(sum);
             }
         }
+        let t_s = self.sim.as_ref().map(|s| s.time_s);
+        self.end_frame(steps, failure, t_s, max_steps);
+    }
+
+    /// After a frame's `steps` (at most `max_steps`): the status's step count and failure, then
+    /// a logged frame when one is due (`LOG_INTERVAL` of wall time and `output.interval_s` of
+    /// simulated time after the last; always after a failure or a single step), and the report.
+    /// `t_s`: the simulated time, `None` when the state was dropped.
+    fn end_frame(&mut self, steps: usize, failure: Option<String>, t_s: Option<f64>, max: usize) {
         self.status.steps_per_frame = steps;
         let stopped = failure.is_some();
         if let Some(f) = failure {
@@ -530,13 +542,13 @@ impl Worker {
             self.status.running = false;
         }
         let interval_s = self.case.output.interval_s;
-        let due = match (self.last_logged, &self.sim) {
-            (Some((wall, t_s)), Some(sim)) => {
-                wall.elapsed() >= LOG_INTERVAL && sim.time_s - t_s >= interval_s - 1e-12
+        let due = match (self.last_logged, t_s) {
+            (Some((wall, t_last)), Some(t)) => {
+                wall.elapsed() >= LOG_INTERVAL && t - t_last >= interval_s - 1e-12
             }
             _ => true,
         };
-        if due || stopped || max_steps != usize::MAX {
+        if due || stopped || max != usize::MAX {
             self.log();
         }
         self.report();

@@ -3,7 +3,7 @@
 //! the viewer. A change of any setting starts the tank again (there is no retune in 3D), and
 //! there is no surf zone to watch (no beach in 3D yet).
 
-use super::{LOG_INTERVAL, Worker, panic_failure};
+use super::{Worker, frame_failure};
 use crate::case::Case;
 use crate::output::rrd3d::Recorder3;
 use crate::output::run3d::Row3;
@@ -80,15 +80,11 @@ impl Worker {
             }
             Ok::<(), String>(())
         }));
-        let failure = match outcome {
-            Ok(Ok(())) => None,
-            Ok(Err(e)) => Some(e),
-            Err(panic) => {
-                // The state may be half-updated: drop it; a reset starts afresh.
-                self.tank = None;
-                Some(panic_failure(panic.as_ref()))
-            }
-        };
+        let (failure, panicked) = frame_failure(outcome);
+        if panicked {
+            // The state may be half-updated: drop it; a reset starts afresh.
+            self.tank = None;
+        }
         if let Some(tank) = &self.tank {
             self.smooth_real_time_factor(tank.sim.time_s - t_start, started);
             if steps > 0 {
@@ -101,23 +97,8 @@ impl Worker {
                     .collect();
             }
         }
-        self.status.steps_per_frame = steps;
-        let stopped = failure.is_some();
-        if let Some(f) = failure {
-            self.status.error = Some(f);
-            self.status.running = false;
-        }
-        let interval_s = self.case.output.interval_s;
-        let due = match (self.last_logged, &self.tank) {
-            (Some((wall, t_s)), Some(tank)) => {
-                wall.elapsed() >= LOG_INTERVAL && tank.sim.time_s - t_s >= interval_s - 1e-12
-            }
-            _ => true,
-        };
-        if due || stopped || max_steps != usize::MAX {
-            self.log_tank();
-        }
-        self.report();
+        let t_s = self.tank.as_ref().map(|t| t.sim.time_s);
+        self.end_frame(steps, failure, t_s, max_steps);
     }
 
     /// One frame of the tank to the viewer (and the .rrd when recording).
