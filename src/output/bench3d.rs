@@ -168,15 +168,20 @@ pub fn bench_still_tank(nodes: usize, steps: u64, solver: &str) -> Result<()> {
     Ok(())
 }
 
-/// `surflab bench` of a 3D case: `steps` steps at the run's Δt (`run3d::step_for`), ms per
+/// `surflab bench` of a 3D case: `steps` steps at the run's Δt (`Simulation3::dt_for`), ms per
 /// step by stage, particle-steps per second and the real-time factor; `json` prints one JSON
 /// object instead.
 pub fn bench_case(case: &Case, steps: u64, json: bool) -> Result<()> {
     let mut flow = setup::from_case(case)?;
     flow.mesh_now()?;
     let n = flow.x.len();
-    let timing = time_steps(&mut flow, steps, |f| super::run3d::step_for(case, f), false)
-        .with_context(|| format!("stepping {}", case.name))?;
+    let timing = time_steps(
+        &mut flow,
+        steps,
+        |f| crate::simulation3d::Simulation3::dt_for(case, f),
+        false,
+    )
+    .with_context(|| format!("stepping {}", case.name))?;
     let (t, wall) = (timing.simulated_s, timing.wall_s);
     let particle_steps_per_s = (n as u64 * steps) as f64 / wall;
     if json {

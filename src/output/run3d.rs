@@ -237,11 +237,6 @@ pub fn run3d(case: &Case, opts: &RunOptions) -> Result<Run3Outcome, RunError> {
     Ok(Run3Outcome { summary, rows })
 }
 
-/// The 3D run's Δt for the flow's state, s ([`Simulation3::dt_for`]).
-pub fn step_for(case: &Case, flow: &Flow3) -> f64 {
-    Simulation3::dt_for(case, flow)
-}
-
 /// One row; `volume_m2` is the volume per metre of width (m³ / width), the 2D series' unit.
 fn write_row(out: &mut impl Write, r: &Row3, v0: f64, width_m: f64) -> std::io::Result<()> {
     let i = &r.integrals;

@@ -32,7 +32,8 @@ pub enum PressureError {
 /// How the pressure equation is solved.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Solver3 {
-    /// faer's sparse Cholesky (its own fill-reducing ordering), factored every step.
+    /// faer's sparse Cholesky, factored every step: faer's own fill-reducing ordering below
+    /// [`NESTED_DISSECTION_UNKNOWNS`], nested dissection of the nodes' positions from there.
     Cholesky,
     /// Conjugate gradients preconditioned by incomplete Cholesky (IC(0), `ic0`) to a relative
     /// residual of 1e-10, from zero.
@@ -56,7 +57,7 @@ pub const CHOLESKY_MAX_UNKNOWNS: usize = 10_000;
 /// nodes' positions (`solver::ordering`); below, faer's own ordering is faster (`surflab
 /// bench3d --solver cholesky`, pressure stage, one sitting: 5 000 nodes 33 against 39 ms,
 /// 7 000 57 against 61, 10 976 117 against 112, 19 652 311 against 248, 48 668 1 817 against
-/// 944; the dam break's first 60 steps, about 4 000 unknowns, 28 against 35 ms).
+/// 944).
 pub const NESTED_DISSECTION_UNKNOWNS: usize = 10_000;
 
 /// The largest system a 3D Cholesky factor is allowed: its fill grows like n^(4/3), and it
@@ -232,7 +233,7 @@ pub fn pressure(
     if count == 0 {
         return Ok((p, 0));
     }
-    let k = matrix.into_matrix()?;
+    let k = matrix.into_matrix();
     let b = faer::Mat::<f64>::from_fn(count, 1, |i, _| rhs[i]);
     let (x, iterations) = match solver {
         Solver3::Cholesky => {
@@ -381,11 +382,11 @@ impl Assembly {
         self.val[self.diag[r]] += v;
     }
 
-    fn into_matrix(self) -> Result<SparseColMat<usize, f64>, PressureError> {
+    fn into_matrix(self) -> SparseColMat<usize, f64> {
         let n = self.diag.len();
         let symbolic =
             faer::sparse::SymbolicSparseColMat::new_checked(n, n, self.col_ptr, None, self.row_idx);
-        Ok(SparseColMat::new(symbolic, self.val))
+        SparseColMat::new(symbolic, self.val)
     }
 }
 
