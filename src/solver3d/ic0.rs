@@ -7,6 +7,7 @@
 //! incomplete Cholesky).
 
 use faer::dyn_stack::{MemStack, StackReq};
+use faer::reborrow::ReborrowMut;
 use faer::sparse::SparseColMat;
 use faer::{MatMut, MatRef, Par};
 
@@ -138,17 +139,8 @@ impl faer::matrix_free::LinOp<f64> for Ic0 {
     }
 
     fn apply(&self, mut out: MatMut<'_, f64>, rhs: MatRef<'_, f64>, _: Par, _: &mut MemStack) {
-        let n = self.row_ptr.len() - 1;
-        let mut x = vec![0.0; n];
-        for j in 0..rhs.ncols() {
-            for (i, xi) in x.iter_mut().enumerate() {
-                *xi = rhs[(i, j)];
-            }
-            self.solve_in_place(&mut x);
-            for (i, xi) in x.iter().enumerate() {
-                out[(i, j)] = *xi;
-            }
-        }
+        out.copy_from(rhs);
+        self.solve_columns(out);
     }
 
     fn conj_apply(&self, out: MatMut<'_, f64>, rhs: MatRef<'_, f64>, par: Par, s: &mut MemStack) {
@@ -156,7 +148,41 @@ impl faer::matrix_free::LinOp<f64> for Ic0 {
     }
 }
 
-impl faer::matrix_free::Precond<f64> for Ic0 {}
+impl Ic0 {
+    /// Each column of `x` ← (L Lᵀ)⁻¹ of itself, in its own memory when it is contiguous (CG's
+    /// vectors are), through a copy otherwise.
+    fn solve_columns(&self, mut x: MatMut<'_, f64>) {
+        for j in 0..x.ncols() {
+            let col = x.rb_mut().col_mut(j);
+            match col.try_as_col_major_mut() {
+                Some(c) => self.solve_in_place(c.as_slice_mut()),
+                None => {
+                    let mut col = x.rb_mut().col_mut(j);
+                    let mut v: Vec<f64> = (0..col.nrows()).map(|i| col[i]).collect();
+                    self.solve_in_place(&mut v);
+                    for (i, vi) in v.into_iter().enumerate() {
+                        col[i] = vi;
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Applied in place, with no scratch and no copy (the default goes through a temporary).
+impl faer::matrix_free::Precond<f64> for Ic0 {
+    fn apply_in_place_scratch(&self, _rhs_ncols: usize, _par: Par) -> StackReq {
+        StackReq::EMPTY
+    }
+
+    fn apply_in_place(&self, rhs: MatMut<'_, f64>, _: Par, _: &mut MemStack) {
+        self.solve_columns(rhs);
+    }
+
+    fn conj_apply_in_place(&self, rhs: MatMut<'_, f64>, _: Par, _: &mut MemStack) {
+        self.solve_columns(rhs);
+    }
+}
 
 #[cfg(test)]
 mod tests {

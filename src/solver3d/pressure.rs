@@ -236,15 +236,7 @@ pub fn pressure(
     let k = matrix.into_matrix();
     let b = faer::Mat::<f64>::from_fn(count, 1, |i, _| rhs[i]);
     let (x, iterations) = match solver {
-        Solver3::Cholesky => {
-            let mut position = vec![[0.0; 3]; count];
-            for (i, &r) in unknown.iter().enumerate() {
-                if r != u32::MAX {
-                    position[r as usize] = points[i];
-                }
-            }
-            (cholesky_solve(&k, &position, b)?, 0)
-        }
+        Solver3::Cholesky => (cholesky_solve(&k, points, &unknown, b)?, 0),
         Solver3::Cg | Solver3::Auto => {
             use faer::dyn_stack::{MemBuffer, MemStack};
             use faer::matrix_free::conjugate_gradient::{
@@ -392,24 +384,31 @@ impl Assembly {
 
 /// Solves K x = b by a sparse Cholesky factor of the symmetric positive definite `k` (its
 /// lower triangle read; both triangles stored from [`NESTED_DISSECTION_UNKNOWNS`] unknowns on)
-/// whose unknowns lie at `position`: from [`NESTED_DISSECTION_UNKNOWNS`] on,
-/// nested-dissection ordering by position (as the 2D pressure's) and a supernodal factor;
-/// below, faer's own ordering and choice. One thread.
+/// whose unknown r is node i where `unknown[i]` = r, at `points[i]`: from
+/// [`NESTED_DISSECTION_UNKNOWNS`] on, nested-dissection ordering by position (as the 2D
+/// pressure's) and a supernodal factor; below, faer's own ordering and choice. One thread.
 fn cholesky_solve(
     k: &SparseColMat<usize, f64>,
-    position: &[[f64; 3]],
+    points: &[[f64; 3]],
+    unknown: &[u32],
     mut b: faer::Mat<f64>,
 ) -> Result<faer::Mat<f64>, PressureError> {
     use faer::prelude::Solve;
-    if position.len() < NESTED_DISSECTION_UNKNOWNS {
+    if k.nrows() < NESTED_DISSECTION_UNKNOWNS {
         let llt = k
             .sp_cholesky(Side::Lower)
             .map_err(|_| PressureError::NotDefinite)?;
         return Ok(llt.solve(&b));
     }
+    let mut position = vec![[0.0; 3]; k.nrows()];
+    for (i, &r) in unknown.iter().enumerate() {
+        if r != u32::MAX {
+            position[r as usize] = points[i];
+        }
+    }
     let pattern = k.symbolic();
     let symbolic =
-        crate::solver::ordering::symbolic_cholesky(position, pattern.col_ptr(), pattern.row_idx())
+        crate::solver::ordering::symbolic_cholesky(&position, pattern.col_ptr(), pattern.row_idx())
             .map_err(PressureError::Matrix)?;
     let mut factor = Vec::new();
     crate::solver::ordering::factor_and_solve(&symbolic, k.as_ref(), &mut factor, b.as_mut())
