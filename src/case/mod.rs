@@ -32,7 +32,7 @@ use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 pub use fluid::Fluid;
-pub use flume::{Beach, Flume, WallCondition, polyline_y};
+pub use flume::{BAR_MAX_SLOPE, Bar, Beach, Flume, WallCondition, polyline_slope, polyline_y};
 pub use output::OutputSettings;
 pub use overrides::apply_override;
 pub use particles::{ParticleSettings, Refinement, Spacing};

@@ -5,6 +5,8 @@
 //! flat by default) and up the right wall. Walking along it, the fluid is on the left, so the
 //! left normal n = (−dy, dx)/|d| of each segment points into the water.
 
+pub mod bed3d;
+
 use crate::case::{Case, Spacing};
 use nalgebra::Vector2;
 

@@ -61,6 +61,9 @@ pub fn quality(x: [&[f64; 3]; 4]) -> f64 {
     6.0 * 2f64.sqrt() * volume / (l_rms * l_rms * l_rms)
 }
 
+/// Says whether a point lies inside the solid (under the bed), for [`alpha_shape_with`].
+pub type InSolid<'a> = &'a dyn Fn(&[f64; 3]) -> bool;
+
 /// The previous step's free surface, for the contact-line rule of [`alpha_shape_with`].
 #[derive(Debug, Clone, Copy)]
 pub struct ContactLine<'a> {
@@ -81,7 +84,7 @@ pub fn alpha_shape(
     mesh: &Tetrahedralisation,
     alpha_h_m: f64,
 ) -> AlphaShape {
-    alpha_shape_with(points, walls, mesh, alpha_h_m, None)
+    alpha_shape_with(points, walls, mesh, alpha_h_m, None, None)
 }
 
 /// [`alpha_shape`] with the contact-line rule, the 2D mesher's one dimension up: a candidate
@@ -94,13 +97,16 @@ pub fn alpha_shape(
 /// line). The 2D rule's second half, a fluid node that does not stand over its wall face (the
 /// air wedge ahead of a front on the bed), is left out: in a corner of the water the lattice's
 /// diagonals give water tetrahedra whose fluid node projects outside their face on one wall,
-/// and dropping them set p = 0 on wall nodes under the water line.
+/// and dropping them set p = 0 on wall nodes under the water line. With `solid`, a tetrahedron
+/// of wall nodes alone whose centroid it says is inside the solid is dropped too (under a bed
+/// that bends down, the tetrahedra of its nodes across the bend lie in the bed, not the water).
 pub fn alpha_shape_with(
     points: &[[f64; 3]],
     walls: &[u16],
     mesh: &Tetrahedralisation,
     alpha_h_m: f64,
     contact: Option<ContactLine>,
+    solid: Option<InSolid>,
 ) -> AlphaShape {
     let n = points.len();
     assert_eq!(walls.len(), n, "one wall mask per node");
@@ -173,7 +179,12 @@ pub fn alpha_shape_with(
                 .map(|&i| line_level[i as usize])
                 .fold(f64::NEG_INFINITY, f64::max);
             let centroid = v.iter().map(|&i| points[i as usize][up]).sum::<f64>() / 4.0;
-            line > f64::NEG_INFINITY && (contact.is_none() || centroid <= line)
+            let inside_the_solid = solid.is_some_and(|in_solid| {
+                in_solid(&std::array::from_fn(|k| {
+                    v.iter().map(|&i| points[i as usize][k]).sum::<f64>() / 4.0
+                }))
+            });
+            line > f64::NEG_INFINITY && (contact.is_none() || centroid <= line) && !inside_the_solid
         })
         .collect();
     let sliver: Vec<bool> = (0..mesh.tets.len())

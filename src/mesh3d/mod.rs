@@ -6,7 +6,9 @@ pub mod alpha;
 pub mod delaunay;
 mod order;
 
-pub use alpha::{AlphaShape, ContactLine, SLIVER_QUALITY, alpha_shape, alpha_shape_with, quality};
+pub use alpha::{
+    AlphaShape, ContactLine, InSolid, SLIVER_QUALITY, alpha_shape, alpha_shape_with, quality,
+};
 pub use delaunay::{NONE, Tetrahedralisation, Tetrahedraliser, circumsphere, tetrahedralise};
 
 /// A xorshift sequence in [0, 1) from a non-zero seed: the test and benchmark clouds'.

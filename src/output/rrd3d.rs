@@ -1,11 +1,13 @@
 //! The 3D recording (issue 26): the particles as 3D points coloured by u1, the free surface as
-//! a mesh, the wetted wall nodes, the tank's edges, the planes z = const as 2D views, and the
-//! run's scalars, for a headless run's `run.rrd` and for the lab's viewer alike.
+//! a mesh, the wetted wall nodes, the tank's edges and bed, the planes z = const as 2D views
+//! (with the bed's profile), and the run's scalars, for a headless run's `run.rrd` and for the
+//! lab's viewer alike.
 
 use super::colormap::ColorScale;
 use super::rrd::{RrdError, SIM_TIMELINE, send_with_bounds};
 use super::run3d::Row3;
 use crate::case::Case;
+use crate::geometry::bed3d::{Bed3, lattice_through};
 use crate::solver3d::Flow3;
 use rerun::{RecordingStream, RecordingStreamBuilder};
 use std::path::Path;
@@ -129,6 +131,7 @@ impl Recorder3 {
         .map_err(|e| e.to_string())?;
         rec.log_static("world", &rerun::ViewCoordinates::RIGHT_HAND_Y_UP())
             .map_err(|e| e.to_string())?;
+        log_bed(&rec, case).map_err(|e| e.to_string())?;
         for z in &case.output.planes_z_m {
             rec.log_static(
                 format!("planes/z={z:.3}"),
@@ -249,4 +252,47 @@ impl Recorder3 {
             eprintln!("warning: flushing the rerun recording failed: {e}");
         }
     }
+}
+
+/// The bed's colour, sand.
+const BED_COLOUR: [u8; 3] = [194, 178, 128];
+
+/// The bed (static): `world/bed`, a mesh of the height field on a grid through its creases
+/// (about 200 × 50 cells), and `planes/z=<z>/bed`, its profile in each plane z = const.
+fn log_bed(rec: &RecordingStream, case: &Case) -> Result<(), rerun::RecordingStreamError> {
+    let f = &case.flume;
+    let (length, width) = (f.length_m, f.width_m.unwrap_or(0.0));
+    let bed = Bed3::from_flume(f);
+    let xs = lattice_through(0.0, length, &bed.x_breaks(0.0, length), |_, _| {
+        length / 200.0
+    });
+    let zs = lattice_through(0.0, width, &bed.z_breaks(0.0, width), |_, _| width / 50.0);
+    let vertices: Vec<[f32; 3]> = xs
+        .iter()
+        .flat_map(|&x| zs.iter().map(move |&z| (x, z)))
+        .map(|(x, z)| [x as f32, bed.height(x, z) as f32, z as f32])
+        .collect();
+    let nz = zs.len() as u32;
+    let triangles: Vec<[u32; 3]> = (0..xs.len() as u32 - 1)
+        .flat_map(|i| (0..nz - 1).map(move |k| i * nz + k))
+        .flat_map(|a| [[a, a + nz, a + 1], [a + 1, a + nz, a + nz + 1]])
+        .collect();
+    let [r, g, b] = BED_COLOUR;
+    rec.log_static(
+        "world/bed",
+        &rerun::Mesh3D::new(vertices)
+            .with_triangle_indices(triangles)
+            .with_albedo_factor(rerun::Rgba32::from_rgb(r, g, b)),
+    )?;
+    for &z in &case.output.planes_z_m {
+        let profile: Vec<[f32; 2]> = xs
+            .iter()
+            .map(|&x| [x as f32, bed.height(x, z) as f32])
+            .collect();
+        rec.log_static(
+            format!("planes/z={z:.3}/bed"),
+            &rerun::LineStrips2D::new([profile]).with_colors([BED_COLOUR]),
+        )?;
+    }
+    Ok(())
 }

@@ -11,6 +11,7 @@ pub mod nodes;
 pub mod piston;
 pub mod pressure;
 pub mod setup;
+mod walls;
 
 pub use nodes::{INSERT_RADIUS_3D_OVER_2D, NodeChanges3};
 pub use piston::Piston3;
@@ -21,6 +22,7 @@ pub use pressure::{
 };
 
 use crate::fem::tet::P1Tet;
+use crate::geometry::bed3d::Bed3;
 use crate::mesh3d::{AlphaShape, Tetrahedralisation, Tetrahedraliser};
 use nalgebra::Vector3;
 
@@ -75,6 +77,9 @@ pub struct Flow3 {
     pub walls: Vec<u16>,
     /// The planes the wall bits refer to; fluid nodes are kept on their water side.
     pub planes: Vec<WallPlane>,
+    /// A bed that is not flat: the wall bit 0 is then this height field, not `planes[0]`
+    /// (`None`: the bed is the plane `planes[0]`).
+    pub bed: Option<Bed3>,
     /// Slip walls (the velocity across a wall removed) or no-slip (u = 0 on wall nodes).
     pub slip: bool,
     /// The last step's pressure, Pa.
@@ -266,7 +271,7 @@ impl Flow3 {
         mesher: &mut Tetrahedraliser,
         lap: &mut impl FnMut(usize),
     ) -> Result<(Tetrahedralisation, AlphaShape, Vec<P1Tet>), PressureError> {
-        use crate::mesh3d::{ContactLine, alpha_shape_with};
+        use crate::mesh3d::{ContactLine, InSolid, alpha_shape_with};
         let active = self.near_water();
         let sub_x: Vec<[f64; 3]> = active.iter().map(|&i| self.x[i as usize]).collect();
         let sub_walls: Vec<u16> = active.iter().map(|&i| self.walls[i as usize]).collect();
@@ -274,16 +279,31 @@ impl Flow3 {
         lap(0);
         // The contact-line rule needs the previous free surface; the first mesh takes it from
         // an α-shape without the rule.
+        // Under a bed that is not flat, all-wall tetrahedra across a downward bend lie in the
+        // bed: their centroid is more than round-off below it.
+        let in_the_bed = |c: &[f64; 3]| {
+            self.bed
+                .as_ref()
+                .is_some_and(|bed| bed.distance(c) < -1e-6 * self.h_m)
+        };
+        let solid: Option<InSolid> = self.bed.as_ref().map(|_| &in_the_bed as _);
         let sub_free: Vec<bool> = if self.was_free.len() == self.x.len() {
             active.iter().map(|&i| self.was_free[i as usize]).collect()
         } else {
-            alpha_shape_with(&sub_x, &sub_walls, &mesh, self.alpha_h_m, None).free_surface
+            alpha_shape_with(&sub_x, &sub_walls, &mesh, self.alpha_h_m, None, solid).free_surface
         };
         let contact = ContactLine {
             was_free: &sub_free,
             up_axis: 1,
         };
-        let mut shape = alpha_shape_with(&sub_x, &sub_walls, &mesh, self.alpha_h_m, Some(contact));
+        let mut shape = alpha_shape_with(
+            &sub_x,
+            &sub_walls,
+            &mesh,
+            self.alpha_h_m,
+            Some(contact),
+            solid,
+        );
         renumber(&mut mesh, &mut shape, &active, self.x.len());
         lap(1);
         let elements = elements(&self.x, &mesh, &shape)?;
@@ -385,60 +405,6 @@ impl Flow3 {
             .collect()
     }
 
-    /// A slip wall node stands still while the water slides past it: its velocity is the
-    /// water's at a fixed point, not that of a particle. Left to its own momentum equation it
-    /// changes by Δt times the acceleration of the water passing it, which differs from the
-    /// change at a fixed point by Δt (u·∇)u, a term whose mean over a standing wave is not zero:
-    /// the walls' velocity drifted from the water's and fed the wave (3D sloshing at
-    /// h = 2.5 cm, 4 h wide: kinetic-energy peaks ×2.39 in 1.2 s, no-slip ×1.03). So at the
-    /// start of each step every wall node of a kept tetrahedron takes the mean velocity of the
-    /// fluid nodes of its kept tetrahedra (each counted once per tetrahedron), less the
-    /// components across its planes, which are the planes' own: free slip has no normal
-    /// gradient of the velocity along the wall, so the water beside the node is what moves at
-    /// it (×1.23; 8 h wide ×1.09 against ×2.06). Explicitly subtracting Δt (u·∇)u instead
-    /// diverged.
-    fn slip_walls_take_the_water_velocity(
-        &mut self,
-        mesh: &Tetrahedralisation,
-        shape: &AlphaShape,
-    ) {
-        let mut sum = vec![(Vector3::zeros(), 0usize); self.x.len()];
-        for &t in &shape.kept {
-            let v = mesh.tets[t as usize].map(|i| i as usize);
-            let (fluid, count) = v
-                .iter()
-                .filter(|&&j| self.walls[j] == 0)
-                .fold((Vector3::zeros(), 0), |(sum, k), &j| {
-                    (sum + self.u[j], k + 1)
-                });
-            for &w in v.iter().filter(|&&w| self.walls[w] != 0) {
-                sum[w].0 += fluid;
-                sum[w].1 += count;
-            }
-        }
-        for (i, &(total, count)) in sum.iter().enumerate() {
-            if count > 0 {
-                self.u[i] = self.admissible_velocity(i, total / count as f64);
-            } else if self.walls[i] != 0 {
-                // Beside no water (dry, or in a wetted corner's all-wall tetrahedra only): the
-                // planes' own velocity, not the one the node was left with (as in 2D).
-                self.u[i] = self.admissible_velocity(i, Vector3::zeros());
-            }
-        }
-    }
-
-    /// `u` as wall node `i` may move: the components across each of its planes replaced by
-    /// the plane's own velocity (0 but on a piston), so an edge keeps the part along it and a
-    /// corner none.
-    fn admissible_velocity(&self, i: usize, mut u: Vector3<f64>) -> Vector3<f64> {
-        for (b, plane) in self.planes.iter().enumerate() {
-            if self.walls[i] & (1 << b) != 0 {
-                u[plane.axis] = plane.velocity_m_s;
-            }
-        }
-        u
-    }
-
     /// The wall nodes' constraint on the corrected velocity (slip, on a node of the mesh: the
     /// components across each of the node's planes replaced by the plane's own velocity, 0 but
     /// on a piston, so an edge keeps the part along it and a corner none; no-slip or dry: the
@@ -466,7 +432,13 @@ impl Flow3 {
                 self.x[i][k] += dt_s * self.u[i][k];
             }
             let mut put_back = false;
-            for plane in &self.planes {
+            for (b, plane) in self.planes.iter().enumerate() {
+                if b == 0
+                    && let Some(bed) = &self.bed
+                {
+                    put_back |= bed.guard(&mut self.x[i], &mut self.u[i], self.wall_margin_m);
+                    continue;
+                }
                 if plane.distance(&self.x[i]) < self.wall_margin_m {
                     self.x[i][plane.axis] = plane.at_m + plane.inward * self.wall_margin_m;
                     if plane.inward * (self.u[i][plane.axis] - plane.velocity_m_s) < 0.0 {
@@ -626,6 +598,7 @@ pub fn still_tank(nx: usize, ny: usize, nz: usize, h: f64, jitter: f64) -> Flow3
         u: vec![Vector3::zeros(); n],
         walls,
         planes: box_planes([0.0; 3], hi),
+        bed: None,
         slip: false,
         p: vec![0.0; n],
         h_m: h,

@@ -3,14 +3,18 @@
 //! piston wavemaker the tank starts at the piston's face (`wavemaker.x_m`): the end wall x = lo
 //! is the piston ([`super::Piston3`]), and the dry flume behind it is left out.
 //!
-//! Walls are lattices of nodes at about the particle spacing h: the bed (y = 0) over the whole
-//! tank, the end walls x = 0 and x = length and the side walls up to the flume's height. Each
-//! node carries one bit per plane it lies on, in the order of [`box_planes`]. Fluid particles
-//! fill every water region on the 2D seeding's lattice (x and y as `geometry::seed_fluid`
-//! spaces them), repeated on the side walls' z lattice, at least h/2 from every wall.
+//! The bed is the case's profile extruded across the width plus its bars
+//! ([`Bed3`]); a flat one is the plane y = 0. Walls are lattices of nodes at about the particle
+//! spacing h: the bed over the whole tank (its lattice through the bed's creases, the nodes
+//! about h apart along it), the end walls and the side walls from the bed up to the flume's
+//! height. Each node carries one bit per wall it lies on, in the order of [`box_planes`] (bit
+//! 0 the bed). Fluid particles fill every water region on the 2D seeding's lattice (x and y as
+//! `geometry::seed_fluid` spaces them, cut by the bed), repeated across the width at about h,
+//! at least h/2 from every wall.
 
 use super::{Flow3, Solver3, box_planes};
 use crate::case::{Case, PressureSolver, WallCondition};
+use crate::geometry::bed3d::Bed3;
 use nalgebra::Vector3;
 
 /// Why a case cannot be seeded on the 3D path: the field and what is wrong with it.
@@ -21,6 +25,17 @@ pub struct Setup3Error {
     pub message: String,
 }
 
+/// The field that describes the bed of `f`: its bars, its beach or its polyline.
+fn bed_field(f: &crate::case::Flume) -> &'static str {
+    if !f.bars.is_empty() {
+        "flume.bars"
+    } else if f.beach.is_some() {
+        "flume.beach"
+    } else {
+        "flume.bed_m"
+    }
+}
+
 fn refuse(field: &str, message: &str) -> Setup3Error {
     Setup3Error {
         field: field.to_owned(),
@@ -29,8 +44,8 @@ fn refuse(field: &str, message: &str) -> Setup3Error {
 }
 
 /// The 3D flow of `case` at rest (hydrostatic pressure), or why the 3D path cannot run it yet:
-/// no width, a bed that is not flat, a flap or an absorbing paddle, an absorber or one of the 2D solver's
-/// optional remedies. The case's sizes were checked when it was loaded (`Case::validate`
+/// no width, a bed outside the tank or not flat under the piston's band, a flap or an absorbing
+/// paddle, an absorber or one of the 2D solver's optional remedies. The case's sizes were checked when it was loaded (`Case::validate`
 /// counts the 3D nodes).
 pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
     let f = &case.flume;
@@ -40,16 +55,6 @@ pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
             "the case has no width: it is a 2D case",
         ));
     };
-    if f.bed_points().iter().any(|p| p[1].abs() > 1e-12) {
-        return Err(refuse(
-            if f.beach.is_some() {
-                "flume.beach"
-            } else {
-                "flume.bed_m"
-            },
-            "the 3D path takes a flat bed (y = 0) for now; beaches and bars are not built yet",
-        ));
-    }
     let mut piston_band_m = None;
     if let Some(w) = &case.wavemaker {
         if w.paddle != crate::waves::linear::PaddleKind::Piston {
@@ -80,6 +85,32 @@ pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
         };
         let h = case.particles.spacing_m;
         let band = (10.0 * reach).max(10.0 * h);
+        // The band's nodes slide along x as the face moves: under them the bed must be flat.
+        let bed = Bed3::from_flume(f);
+        let band_end = w.x_m + band;
+        let level = bed.height(w.x_m, 0.0);
+        let flat_under_band = bed
+            .x_breaks(w.x_m, band_end)
+            .into_iter()
+            .chain([w.x_m, band_end])
+            .all(|x| {
+                bed.z_breaks(0.0, width)
+                    .into_iter()
+                    .chain([0.0, width])
+                    .all(|z| {
+                        bed.height(x, z) == level && bed.normal(x, z).is_some_and(|n| n.y == 1.0)
+                    })
+            });
+        if !flat_under_band {
+            return Err(refuse(
+                bed_field(f),
+                &format!(
+                    "the bed must be flat for {band:.3} m in front of the piston (x = {} to \
+                     {band_end:.3} m): the wall nodes there move with the face",
+                    w.x_m
+                ),
+            ));
+        }
         if band > 0.5 * (f.length_m - w.x_m) {
             return Err(refuse(
                 "flume.length_m",
@@ -94,6 +125,13 @@ pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
     }
     if case.absorber.is_some() {
         return Err(refuse("absorber", "the 3D path has no damping layer yet"));
+    }
+    if !case.surf.stations_x_m.is_empty() {
+        return Err(refuse(
+            "surf.stations_x_m",
+            "the 3D path has no undertow stations yet: u1 on the planes z = const \
+             (output.planes_z_m) is recorded instead",
+        ));
     }
     if !case.output.probes_m.is_empty() {
         return Err(refuse(
@@ -149,16 +187,65 @@ pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
             ),
         ));
     }
-    let lattice = |extent: f64| {
-        let n = (extent / h).round().max(1.0) as usize;
-        (n, extent / n as f64)
-    };
+    let bed = Bed3::from_flume(f);
     // The tank starts at the piston's face, or at x = 0.
     let x_lo = case.wavemaker.as_ref().map_or(0.0, |w| w.x_m);
-    let (nx, dx) = lattice(f.length_m - x_lo);
-    let (ny, dy) = lattice(f.height_m);
-    let nz = lattice(width).0;
-    let dz = width / nz as f64;
+    // b is bilinear between its break lines, so its extremes are at their crossings.
+    let x_probe: Vec<f64> = bed
+        .x_breaks(x_lo, f.length_m)
+        .into_iter()
+        .chain([x_lo, f.length_m])
+        .collect();
+    let z_probe: Vec<f64> = bed
+        .z_breaks(0.0, width)
+        .into_iter()
+        .chain([0.0, 0.5 * width, width])
+        .collect();
+    for &px in &x_probe {
+        for &pz in &z_probe {
+            let b = bed.height(px, pz);
+            if !(0.0..f.height_m - h).contains(&b) {
+                return Err(refuse(
+                    bed_field(f),
+                    &format!(
+                        "the bed is {b:.3} m high at x = {px} m, z = {pz} m: it must lie in \
+                         [0, flume.height_m − h) = [0, {:.3}) m",
+                        f.height_m - h
+                    ),
+                ));
+            }
+        }
+    }
+    // The bed's lattice passes through its creases; along each piece the nodes are about h
+    // apart along the bed (its steepest slope on the piece, across the tank or along it).
+    let steepest = |along: usize, a: f64, b: f64, across: &[f64]| -> f64 {
+        let mid = 0.5 * (a + b);
+        across
+            .iter()
+            .map(|&c| {
+                let (x, z) = if along == 0 { (mid, c) } else { (c, mid) };
+                bed.slope(x, z, [1.0, 1.0])[if along == 0 { 0 } else { 1 }].abs()
+            })
+            .fold(0.0, f64::max)
+    };
+    let xs = crate::geometry::bed3d::lattice_through(
+        x_lo,
+        f.length_m,
+        &bed.x_breaks(x_lo, f.length_m),
+        |a, b| h / (1.0 + steepest(0, a, b, &z_probe).powi(2)).sqrt(),
+    );
+    let zs =
+        crate::geometry::bed3d::lattice_through(0.0, width, &bed.z_breaks(0.0, width), |a, b| {
+            h / (1.0 + steepest(2, a, b, &x_probe).powi(2)).sqrt()
+        });
+    let (nx, nz) = (xs.len() - 1, zs.len() - 1);
+    // Each column of wall nodes runs from the bed up to the flume's height in about h steps.
+    let rows = |base: f64| ((f.height_m - base) / h).round().max(1.0) as usize;
+    let ny_max = (0..=nx)
+        .flat_map(|i| (0..=nz).map(move |k| (i, k)))
+        .map(|(i, k)| rows(bed.height(xs[i], zs[k])))
+        .max()
+        .unwrap_or(1);
     let side_mask = |i: usize, k: usize| -> u16 {
         ((i == 0) as u16) << 1
             | ((i == nx) as u16) << 2
@@ -167,17 +254,25 @@ pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
     };
     let (mut x, mut walls) = (Vec::new(), Vec::new());
     for i in 0..=nx {
-        for j in 0..=ny {
+        for j in 0..=ny_max {
             for k in 0..=nz {
+                let base = bed.height(xs[i], zs[k]);
+                let ny = rows(base);
                 let mask = (j == 0) as u16 | side_mask(i, k);
-                if mask != 0 {
-                    x.push([x_lo + i as f64 * dx, j as f64 * dy, k as f64 * dz]);
+                if mask != 0 && j <= ny {
+                    let dy = (f.height_m - base) / ny as f64;
+                    x.push([xs[i], base + j as f64 * dy, zs[k]]);
                     walls.push(mask);
                 }
             }
         }
     }
     let planes = box_planes([x_lo, 0.0, 0.0], [f.length_m, f.height_m, width]);
+    let near_a_wall = |p: &[f64; 3]| {
+        bed.distance(p) < 0.5 * h || planes.iter().skip(1).any(|q| q.distance(p) < 0.5 * h)
+    };
+    let nz_fluid = (width / h).round().max(1.0) as usize;
+    let dz = width / nz_fluid as f64;
     let mut taken = std::collections::HashSet::new();
     for w in &case.water {
         let (nxw, dxw) = {
@@ -189,9 +284,10 @@ pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
             let px = w.x_start_m + i as f64 * dxw;
             let dyw = w.level_at(px) / nyw as f64;
             for j in 0..=nyw {
-                for k in 1..nz {
+                for k in 1..nz_fluid {
+                    // The 2D seeding's lattice, from y = 0 up to the level, cut by the bed.
                     let p = [px, j as f64 * dyw, k as f64 * dz];
-                    if planes.iter().any(|q| q.distance(&p) < 0.5 * h) {
+                    if near_a_wall(&p) {
                         continue;
                     }
                     // Overlapping regions: one particle per half-spacing cell.
@@ -229,6 +325,7 @@ pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
         u: vec![Vector3::zeros(); n],
         walls,
         planes,
+        bed: (!bed.is_flat()).then_some(bed),
         slip: f.walls == WallCondition::Slip,
         p,
         h_m: h,

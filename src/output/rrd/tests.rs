@@ -581,7 +581,15 @@ fn the_3d_planes_are_upright_and_opened_on_the_tank() {
             "{:?}",
             s.rows
         );
+        // The bed's profile in the plane, under the particles.
+        assert_eq!(
+            s.rows.get(&format!("/planes/z\\={z}/bed")),
+            Some(&1),
+            "{:?}",
+            s.rows
+        );
     }
+    assert_eq!(s.rows.get("/world/bed"), Some(&1), "{:?}", s.rows);
     let bounds = visual_bounds_paths(&msgs);
     println!("3D planes: bounds logged at {bounds:?}");
     assert_eq!(bounds.len(), 2, "{bounds:?}");
