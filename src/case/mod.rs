@@ -263,8 +263,11 @@ impl Case {
                 },
             )?;
         }
-        self.surf
-            .validate(self.flume.length_m, self.wavemaker.is_some())?;
+        self.surf.validate(
+            self.flume.length_m,
+            self.flume.width_m,
+            self.wavemaker.is_some(),
+        )?;
         self.validate_size()
     }
 }

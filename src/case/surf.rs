@@ -15,6 +15,10 @@ pub struct SurfSettings {
     /// Undertow stations, flume x in m: period-averaged u(z) from the bed to the crests.
     /// Default none.
     pub stations_x_m: Vec<f64>,
+    /// In a 3D case, where each station stands across the tank, m (one z per x of
+    /// `stations_x_m`). Default none; a 2D case refuses it.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub stations_z_m: Vec<f64>,
     /// Height of the bins of the undertow profiles, m. Default `None`: half the particle
     /// spacing (0 in a case file means the same).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -29,6 +33,7 @@ impl Default for SurfSettings {
         Self {
             x_origin_m: 0.0,
             stations_x_m: Vec::new(),
+            stations_z_m: Vec::new(),
             profile_dz_m: None,
             spin_up_periods: 5.0,
         }
@@ -42,12 +47,45 @@ impl SurfSettings {
     }
 
     /// A finite origin, stations inside the flume (of length `flume_length_m`) and only with a
-    /// wavemaker (`has_wavemaker`) to give the period, non-negative bins and spin-up.
+    /// wavemaker (`has_wavemaker`) to give the period, non-negative bins and spin-up; in a 3D
+    /// tank (`width_m`) one z inside it per station, in 2D none.
     pub(super) fn validate(
         &self,
         flume_length_m: f64,
+        width_m: Option<f64>,
         has_wavemaker: bool,
     ) -> Result<(), (String, String)> {
+        match width_m {
+            None if !self.stations_z_m.is_empty() => {
+                return err(
+                    "surf.stations_z_m",
+                    "stations across the tank need a 3D case (flume.width_m)".into(),
+                );
+            }
+            Some(width) => {
+                if self.stations_z_m.len() != self.stations_x_m.len() {
+                    return err(
+                        "surf.stations_z_m",
+                        format!(
+                            "a 3D case gives one z per station: {} for {} stations",
+                            self.stations_z_m.len(),
+                            self.stations_x_m.len()
+                        ),
+                    );
+                }
+                if let Some(z) = self
+                    .stations_z_m
+                    .iter()
+                    .find(|z| !(z.is_finite() && **z > 0.0 && **z < width))
+                {
+                    return err(
+                        "surf.stations_z_m",
+                        format!("station at z = {z} m lies outside the tank (0, {width}) m"),
+                    );
+                }
+            }
+            None => {}
+        }
         if !self.x_origin_m.is_finite() {
             return err("surf.x_origin_m", "must be finite".into());
         }

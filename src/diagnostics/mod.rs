@@ -3,6 +3,7 @@
 pub mod breaking;
 pub mod surface;
 pub mod undertow;
+pub mod undertow3d;
 
 use crate::simulation::{AreaBudget, Simulation};
 use nalgebra::Vector2;

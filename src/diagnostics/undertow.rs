@@ -11,15 +11,75 @@
 //! the water shoreward of the station neither grows nor drains, which the station's budget
 //! (the mesh's area shoreward of it, and the volume ledger's share of it) checks.
 
+use crate::case::Case;
 use crate::simulation::Simulation;
 
 /// One station's bins.
 #[derive(Debug, Clone)]
-struct Station {
-    x_m: f64,
+pub struct Station {
+    pub x_m: f64,
+    /// Across the tank, m (0 in 2D).
+    pub z_m: f64,
     /// Absolute height of the lowest bin's bottom (the bed), m.
-    bottom_m: f64,
-    bins: usize,
+    pub bottom_m: f64,
+    pub bins: usize,
+}
+
+/// What the stations read of a flow, 2D ([`Simulation`]) or 3D
+/// (`crate::simulation3d::Simulation3`).
+pub trait StationFlow {
+    /// The flow's time, s.
+    fn time_s(&self) -> f64;
+    /// Per station: ∫u dy (m²/s) and the wet height (m) in each bin of height `dz_m` now.
+    fn sections(&self, stations: &[Station], dz_m: f64) -> Vec<(Vec<f64>, Vec<f64>)>;
+    /// The surface's height above still water at the station, m (`None`: dry).
+    fn elevation_m(&self, station: &Station) -> Option<f64>;
+    /// The water shoreward of x = `x_m`, m² (per metre of width in 3D; 0 where it is not kept).
+    fn water_right_of_m2(&self, x_m: f64) -> f64;
+    /// The volume ledger's balance shoreward of x = `x_m`, m² (0 without a ledger).
+    fn numerics_right_of_m2(&self, x_m: f64) -> f64;
+}
+
+impl StationFlow for Simulation {
+    fn time_s(&self) -> f64 {
+        self.time_s
+    }
+
+    /// One pass over the triangles (this runs every step): each is cut by the stations within
+    /// its x range.
+    fn sections(&self, stations: &[Station], dz_m: f64) -> Vec<(Vec<f64>, Vec<f64>)> {
+        let p = &self.particles;
+        let mut out: Vec<(Vec<f64>, Vec<f64>)> = stations
+            .iter()
+            .map(|s| (vec![0.0; s.bins], vec![0.0; s.bins]))
+            .collect();
+        for t in &self.solver.mesh.triangles {
+            let xs = t.map(|i| p.position[i as usize].x);
+            let lo = xs[0].min(xs[1]).min(xs[2]);
+            let hi = xs[0].max(xs[1]).max(xs[2]);
+            for (s, (flux, wet)) in stations.iter().zip(out.iter_mut()) {
+                if s.x_m < lo || s.x_m >= hi {
+                    continue;
+                }
+                if let Some(((y0, u0), (y1, u1))) = section(t, &p.position, &p.velocity, s.x_m) {
+                    add_segment(s, dz_m, y0, u0, y1, u1, flux, wet);
+                }
+            }
+        }
+        out
+    }
+
+    fn elevation_m(&self, station: &Station) -> Option<f64> {
+        super::surface_elevation(self, station.x_m)
+    }
+
+    fn water_right_of_m2(&self, x_m: f64) -> f64 {
+        Simulation::water_area_right_of_m2(self, x_m)
+    }
+
+    fn numerics_right_of_m2(&self, x_m: f64) -> f64 {
+        self.numerics_area_change_right_of_m2(x_m)
+    }
 }
 
 /// One output time at every station.
@@ -59,6 +119,8 @@ pub struct Stations {
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct StationSummary {
     pub x_m: f64,
+    /// Across a 3D tank, m (0 in 2D).
+    pub across_m: f64,
     /// `x_m − surf.x_origin_m`.
     pub x_data_frame_m: f64,
     /// Still-water depth, m.
@@ -100,10 +162,9 @@ pub struct UndertowSummary {
 }
 
 impl Stations {
-    /// The stations of `sim`'s case (`surf.stations_x_m`), bins from the bed to 2H (at least
-    /// 3 h) above still water.
-    pub fn new(sim: &Simulation) -> Self {
-        let case = &sim.case;
+    /// The stations of `case` (`surf.stations_x_m`, and across a 3D tank `stations_z_m`), bins
+    /// from the bed (`bed_at(x, z)`, m) to 2H (at least 3 h) above still water.
+    pub fn new(case: &Case, bed_at: impl Fn(f64, f64) -> f64) -> Self {
         let h = case.particles.spacing_m;
         let dz = case.surf.profile_dz_m.unwrap_or(0.5 * h);
         let height = case.wavemaker.as_ref().map_or(0.0, |w| w.height_m);
@@ -112,13 +173,16 @@ impl Stations {
             .surf
             .stations_x_m
             .iter()
-            .map(|&x| {
-                let bed = case.bed_y_at(x);
+            .enumerate()
+            .map(|(k, &x)| {
+                let z = case.surf.stations_z_m.get(k).copied().unwrap_or(0.0);
+                let bed = bed_at(x, z);
                 let level = case.still_level_at(x).unwrap_or(bed);
                 level_m.push(level);
                 let top = level + (2.0 * height).max(3.0 * h);
                 Station {
                     x_m: x,
+                    z_m: z,
                     bottom_m: bed,
                     bins: ((top - bed) / dz).ceil().max(1.0) as usize,
                 }
@@ -140,12 +204,12 @@ impl Stations {
     }
 
     /// Records the flow through every station at the current time.
-    pub fn record(&mut self, sim: &Simulation) {
+    pub fn record(&mut self, sim: &impl StationFlow) {
         if self.stations.is_empty() {
             return;
         }
         let mut sample = Sample {
-            t_s: sim.time_s,
+            t_s: sim.time_s(),
             span_s: self.span_s,
             eta_m: Vec::with_capacity(self.stations.len()),
             flux: Vec::with_capacity(self.stations.len()),
@@ -154,7 +218,7 @@ impl Stations {
             shore_ledger_m2: Vec::with_capacity(self.stations.len()),
         };
         // Without steps fed since the last sample, the flow at this instant.
-        let now = (self.span_s <= 0.0).then(|| self.sections(sim));
+        let now = (self.span_s <= 0.0).then(|| sim.sections(&self.stations, self.dz_m));
         for (j, s) in self.stations.iter().enumerate() {
             // The time mean since the last sample when the caller fed every step.
             let (flux, wet): (Vec<f32>, Vec<f32>) = if let Some(now) = &now {
@@ -175,11 +239,9 @@ impl Stations {
                         .collect(),
                 )
             };
-            sample.shore_area_m2.push(sim.water_area_right_of_m2(s.x_m));
-            sample
-                .shore_ledger_m2
-                .push(sim.numerics_area_change_right_of_m2(s.x_m));
-            sample.eta_m.push(super::surface_elevation(sim, s.x_m));
+            sample.shore_area_m2.push(sim.water_right_of_m2(s.x_m));
+            sample.shore_ledger_m2.push(sim.numerics_right_of_m2(s.x_m));
+            sample.eta_m.push(sim.elevation_m(s));
             sample.flux.push(flux);
             sample.wet.push(wet);
         }
@@ -195,11 +257,15 @@ impl Stations {
     /// integrated over time step by step; without it each sample is the flow at its instant,
     /// and a wave whose period is a whole number of output intervals is always seen at the
     /// same phases.
-    pub fn accumulate(&mut self, sim: &Simulation, dt_s: f64) {
+    pub fn accumulate(&mut self, sim: &impl StationFlow, dt_s: f64) {
         if self.stations.is_empty() {
             return;
         }
-        for (j, (flux, wet)) in self.sections(sim).into_iter().enumerate() {
+        for (j, (flux, wet)) in sim
+            .sections(&self.stations, self.dz_m)
+            .into_iter()
+            .enumerate()
+        {
             for (acc, v) in self.flux_dt[j].iter_mut().zip(flux) {
                 *acc += v * dt_s;
             }
@@ -208,31 +274,6 @@ impl Stations {
             }
         }
         self.span_s += dt_s;
-    }
-
-    /// Per station: ∫u dy and the wet height in each bin now. One pass over the triangles
-    /// (this runs every step): each is cut by the stations within its x range.
-    fn sections(&self, sim: &Simulation) -> Vec<(Vec<f64>, Vec<f64>)> {
-        let p = &sim.particles;
-        let mut out: Vec<(Vec<f64>, Vec<f64>)> = self
-            .stations
-            .iter()
-            .map(|s| (vec![0.0; s.bins], vec![0.0; s.bins]))
-            .collect();
-        for t in &sim.solver.mesh.triangles {
-            let xs = t.map(|i| p.position[i as usize].x);
-            let lo = xs[0].min(xs[1]).min(xs[2]);
-            let hi = xs[0].max(xs[1]).max(xs[2]);
-            for (s, (flux, wet)) in self.stations.iter().zip(out.iter_mut()) {
-                if s.x_m < lo || s.x_m >= hi {
-                    continue;
-                }
-                if let Some(((y0, u0), (y1, u1))) = section(t, &p.position, &p.velocity, s.x_m) {
-                    add_segment(s, self.dz_m, y0, u0, y1, u1, flux, wet);
-                }
-            }
-        }
-        out
     }
 
     /// Averages over whole periods of `period_s` from `from_s` to the last sample;
@@ -323,6 +364,7 @@ impl Stations {
                 let numerics = rate(&|s: &Sample| s.shore_ledger_m2[j]);
                 StationSummary {
                     x_m: st.x_m,
+                    across_m: st.z_m,
                     x_data_frame_m: st.x_m - x_origin_m,
                     depth_m: level - st.bottom_m,
                     trough_m: trough,
@@ -390,7 +432,7 @@ fn section(
 
 /// Adds ∫u dy of the segment (y0, u0)–(y1, u1), u linear in y, to the bins of `s`.
 #[allow(clippy::too_many_arguments)]
-fn add_segment(
+pub(crate) fn add_segment(
     s: &Station,
     dz: f64,
     y0: f64,
@@ -442,6 +484,7 @@ mod tests {
         assert!((y0 - 0.0).abs() < 1e-12 && (y1 - 0.75).abs() < 1e-12);
         let s = Station {
             x_m: 0.25,
+            z_m: 0.0,
             bottom_m: 0.0,
             bins: 10,
         };

@@ -9,6 +9,8 @@ use super::run::{Progress, RunError, RunOptions, io_err};
 use super::summary::{RunFigures, median};
 use super::timeseries::{GaugeWriter, gauge_columns};
 use crate::case::Case;
+use crate::diagnostics::undertow::{Stations, UndertowSummary};
+use crate::geometry::bed3d::Bed3;
 use crate::simulation3d::Simulation3;
 use crate::solver3d::{Flow3, Integrals3, STAGES_3D};
 use serde::Serialize;
@@ -79,18 +81,32 @@ pub struct Summary3 {
     pub volume_drift_max: f64,
     pub max_tetrahedra: usize,
     pub max_slivers_kept: usize,
+    /// The undertow stations (`surf.stations_x_m` at `stations_z_m`), averaged over whole
+    /// periods after the spin-up, as in 2D (no station budget's ledger in 3D).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub undertow: Option<UndertowSummary>,
 }
 
 impl Summary3 {
     /// The one line `surflab run` prints at the end of a 3D run.
     pub fn line(&self) -> String {
-        format!(
+        let mut line = format!(
             "3D, {}, volume drift max {:.3e}, up to {} tetrahedra ({} slivers kept)",
             self.run.line(),
             self.volume_drift_max,
             self.max_tetrahedra,
             self.max_slivers_kept
-        )
+        );
+        if let Some(u) = &self.undertow {
+            line += &format!(
+                "; undertow over {} periods from {} s, mean u1 below the trough (m/s):",
+                u.periods, u.averaged_from_s
+            );
+            for s in &u.stations {
+                line += &format!(" ({}, {}) {:+.4}", s.x_m, s.across_m, s.undertow_mean_m_s);
+            }
+        }
+        line
     }
 }
 
@@ -153,6 +169,9 @@ pub fn run3d(case: &Case, opts: &RunOptions) -> Result<Run3Outcome, RunError> {
     } else {
         Some(GaugeWriter::create(&gauge_path, &gauge_columns).map_err(io_err(&gauge_path))?)
     };
+    // Undertow stations: the flow through them integrated over every step.
+    let bed = Bed3::from_flume(&case.flume);
+    let mut stations = Stations::new(case, |x, z| bed.height(x, z));
     let flow_width = case.flume.width_m.unwrap_or(1.0);
     let end_s = case.time.end_s;
     let interval = case.output.interval_s;
@@ -171,6 +190,7 @@ pub fn run3d(case: &Case, opts: &RunOptions) -> Result<Run3Outcome, RunError> {
         write_row(&mut csv, &row, initial_volume, flow_width)
             .and_then(|()| csv.flush())
             .map_err(io_err(&csv_path))?;
+        stations.record(&sim);
         let eta = gauge_values(case, &sim.flow);
         if let Some(g) = gauges.as_mut() {
             g.row(row.t_s, &eta).map_err(io_err(&gauge_path))?;
@@ -188,6 +208,7 @@ pub fn run3d(case: &Case, opts: &RunOptions) -> Result<Run3Outcome, RunError> {
         while sim.time_s < target - 1e-12 {
             match sim.step_towards(target) {
                 Ok(s) => {
+                    stations.accumulate(&sim, sim.last_dt_s);
                     particle_steps += sim.flow.x.len() as f64;
                     for (k, ms) in s.stage_ms.iter().enumerate() {
                         stage_ms[k].push(*ms);
@@ -230,6 +251,13 @@ pub fn run3d(case: &Case, opts: &RunOptions) -> Result<Run3Outcome, RunError> {
             .fold(0.0, f64::max),
         max_tetrahedra: rows.iter().map(|r| r.tetrahedra).max().unwrap_or(0),
         max_slivers_kept: rows.iter().map(|r| r.slivers_kept).max().unwrap_or(0),
+        undertow: case.wavemaker.as_ref().and_then(|w| {
+            stations.summary(
+                w.period_s,
+                case.surf.spin_up_periods * w.period_s,
+                case.surf.x_origin_m,
+            )
+        }),
     };
     let summary_path = opts.out_dir.join("summary.json");
     let text = serde_json::to_string_pretty(&summary).expect("a summary serialises");

@@ -83,7 +83,7 @@ impl SurfRecorder {
         });
         Self {
             detector,
-            stations: Stations::new(sim),
+            stations: Stations::new(&sim.case, |x, _| sim.case.bed_y_at(x)),
             space_time,
             level_m: Vec::new(),
             volume_change: Vec::new(),

@@ -102,6 +102,9 @@ pub struct Flow3 {
     pub in_mesh: Vec<bool>,
     /// The last step's free-surface triangles (outward), node indices.
     pub surface: Vec<[u32; 3]>,
+    /// The kept tetrahedra of the last step, on the moved nodes (for diagnostics that cut the
+    /// water; those of a node removed after the move are dropped).
+    pub tetrahedra: Vec<[u32; 4]>,
     /// Per node: on the last step's free surface (empty before the first mesh), for the
     /// α-shape's contact-line rule.
     pub was_free: Vec<bool>,
@@ -247,6 +250,7 @@ impl Flow3 {
         self.in_mesh = std::mem::take(&mut shape.in_mesh);
         self.was_free = std::mem::take(&mut shape.free_surface);
         self.surface = std::mem::take(&mut shape.surface);
+        self.tetrahedra = shape.kept.iter().map(|&t| mesh.tets[t as usize]).collect();
         lap(6);
         let nodes = self.manage_nodes(&mesh, &shape);
         lap(7);
@@ -317,10 +321,11 @@ impl Flow3 {
         let mut mesher = std::mem::take(&mut self.mesher);
         let remeshed = self.remesh(&mut mesher, &mut |_| {});
         self.mesher = mesher;
-        let (_, shape, elements) = remeshed?;
+        let (mesh, shape, elements) = remeshed?;
         self.in_mesh = shape.in_mesh;
         self.was_free = shape.free_surface;
         self.surface = shape.surface;
+        self.tetrahedra = shape.kept.iter().map(|&t| mesh.tets[t as usize]).collect();
         Ok(elements.iter().map(|e| e.volume).sum())
     }
 
@@ -612,6 +617,7 @@ pub fn still_tank(nx: usize, ny: usize, nz: usize, h: f64, jitter: f64) -> Flow3
         weak_surface_m: None,
         in_mesh: vec![false; n],
         surface: Vec::new(),
+        tetrahedra: Vec::new(),
         was_free: Vec::new(),
         mesher: Tetrahedraliser::default(),
         piston: None,

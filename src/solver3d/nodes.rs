@@ -155,6 +155,11 @@ impl Flow3 {
         for f in &mut self.surface {
             *f = f.map(|i| new_index[i as usize]);
         }
+        self.tetrahedra
+            .retain(|t| t.iter().all(|&i| !drop[i as usize]));
+        for t in &mut self.tetrahedra {
+            *t = t.map(|i| new_index[i as usize]);
+        }
         if let Some(piston) = &mut self.piston {
             piston.renumber(&new_index);
         }

@@ -126,13 +126,6 @@ pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
     if case.absorber.is_some() {
         return Err(refuse("absorber", "the 3D path has no damping layer yet"));
     }
-    if !case.surf.stations_x_m.is_empty() {
-        return Err(refuse(
-            "surf.stations_x_m",
-            "the 3D path has no undertow stations yet: u1 on the planes z = const \
-             (output.planes_z_m) is recorded instead",
-        ));
-    }
     if !case.output.probes_m.is_empty() {
         return Err(refuse(
             "output.probes_m",
@@ -343,6 +336,7 @@ pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
         weak_surface_m: case.solver.weak_surface_length_h.map(|l| l * h),
         in_mesh: vec![false; n],
         surface: Vec::new(),
+        tetrahedra: Vec::new(),
         was_free: Vec::new(),
         mesher: Default::default(),
         piston,
