@@ -45,8 +45,8 @@ fn refuse(field: &str, message: &str) -> Setup3Error {
 
 /// The 3D flow of `case` at rest (hydrostatic pressure), or why the 3D path cannot run it yet:
 /// no width, a bed outside the tank or not flat under the piston's band, a flap or an absorbing
-/// paddle, an absorber or one of the 2D solver's optional remedies. The case's sizes were checked when it was loaded (`Case::validate`
-/// counts the 3D nodes).
+/// paddle, an absorber or one of the 2D solver's optional remedies. The case's sizes were
+/// checked when it was loaded (`Case::validate` counts the 3D nodes).
 pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
     let f = &case.flume;
     let Some(width) = f.width_m else {
@@ -55,6 +55,7 @@ pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
             "the case has no width: it is a 2D case",
         ));
     };
+    let bed = Bed3::from_flume(f);
     let mut piston_band_m = None;
     if let Some(w) = &case.wavemaker {
         if w.paddle != crate::waves::linear::PaddleKind::Piston {
@@ -86,7 +87,6 @@ pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
         let h = case.particles.spacing_m;
         let band = (10.0 * reach).max(10.0 * h);
         // The band's nodes slide along x as the face moves: under them the bed must be flat.
-        let bed = Bed3::from_flume(f);
         let band_end = w.x_m + band;
         let level = bed.height(w.x_m, 0.0);
         let flat_under_band = bed
@@ -180,7 +180,6 @@ pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
             ),
         ));
     }
-    let bed = Bed3::from_flume(f);
     // The tank starts at the piston's face, or at x = 0.
     let x_lo = case.wavemaker.as_ref().map_or(0.0, |w| w.x_m);
     // b is bilinear between its break lines, so its extremes are at their crossings.
