@@ -281,16 +281,16 @@ impl Flow3 {
         let sub_walls: Vec<u16> = active.iter().map(|&i| self.walls[i as usize]).collect();
         let mut mesh = mesher.tetrahedralise(&sub_x);
         lap(0);
-        // The contact-line rule needs the previous free surface; the first mesh takes it from
-        // an α-shape without the rule.
         // Under a bed that is not flat, all-wall tetrahedra across a downward bend lie in the
         // bed: their centroid is more than round-off below it.
-        let in_the_bed = |c: &[f64; 3]| {
-            self.bed
-                .as_ref()
-                .is_some_and(|bed| bed.distance(c) < -1e-6 * self.h_m)
-        };
-        let solid: Option<InSolid> = self.bed.as_ref().map(|_| &in_the_bed as _);
+        let depth_m = 1e-6 * self.h_m;
+        let in_the_bed = self
+            .bed
+            .as_ref()
+            .map(|bed| move |c: &[f64; 3]| bed.distance(c) < -depth_m);
+        let solid: Option<InSolid> = in_the_bed.as_ref().map(|f| f as _);
+        // The contact-line rule needs the previous free surface; the first mesh takes it from
+        // an α-shape without the rule.
         let sub_free: Vec<bool> = if self.was_free.len() == self.x.len() {
             active.iter().map(|&i| self.was_free[i as usize]).collect()
         } else {
