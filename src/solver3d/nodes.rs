@@ -87,13 +87,15 @@ impl Flow3 {
                 taken.insert(k);
                 let u = v.iter().map(|&i| self.u[i as usize]).sum::<Vector3<f64>>() / 4.0;
                 let pressure = v.iter().map(|&i| self.p[i as usize]).sum::<f64>() / 4.0;
-                added.push((c, u, pressure));
+                let pi = v.iter().map(|&i| self.pi[i as usize]).sum::<Vector3<f64>>() / 4.0;
+                added.push((c, u, pressure, pi));
             }
             changes.inserted = added.len();
-            for (c, u, pressure) in added {
+            for (c, u, pressure, pi) in added {
                 self.x.push(c);
                 self.u.push(u);
                 self.p.push(pressure);
+                self.pi.push(pi);
                 self.walls.push(0);
                 self.in_mesh.push(true);
                 self.was_free.push(false);
@@ -149,6 +151,7 @@ impl Flow3 {
         keep(&mut self.x, drop);
         keep(&mut self.u, drop);
         keep(&mut self.p, drop);
+        keep(&mut self.pi, drop);
         keep(&mut self.walls, drop);
         keep(&mut self.in_mesh, drop);
         keep(&mut self.was_free, drop);

@@ -147,6 +147,8 @@ pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
             s.volume_relaxation_s.is_some(),
         ),
         ("solver.geometry_theta", s.geometry_theta.is_some()),
+        // The 3D predictor's viscous term is explicit.
+        ("solver.theta", s.theta != 0.0),
         ("solver.midpoint_move", s.midpoint_move),
         ("solver.area_correction", s.area_correction),
         ("solver.volume_recovery", s.volume_recovery),
@@ -301,15 +303,28 @@ pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
     let piston = piston_band_m.map(|band| super::Piston3::new(1, x_lo, band, &x, &walls));
     let rho = case.fluid.density_kg_m3;
     let g = case.fluid.gravity_m_s2;
-    // Hydrostatic under the level of the region above each node (the first frame's pressure).
+    // Hydrostatic under the level of the region above each node (the first frame's pressure),
+    // and π = −∇p = (0, ρg, 0) on every node of the water and on the wall nodes less than h
+    // above it (a contact point's tetrahedra), so that the FIC term starts balanced.
+    let level = |q: &[f64; 3]| {
+        case.water
+            .iter()
+            .filter(|w| w.spans(q[0], 0.5 * h))
+            .map(|w| w.level_at(q[0].clamp(w.x_start_m, w.x_end_m)))
+            .fold(f64::NEG_INFINITY, f64::max)
+    };
     let p = x
         .iter()
+        .map(|q| (rho * g * (level(q) - q[1])).max(0.0))
+        .collect();
+    let pi = x
+        .iter()
         .map(|q| {
-            case.water
-                .iter()
-                .filter(|w| w.spans(q[0], 0.5 * h))
-                .map(|w| rho * g * (w.level_at(q[0].clamp(w.x_start_m, w.x_end_m)) - q[1]))
-                .fold(0.0, f64::max)
+            if level(q) >= q[1] - h {
+                Vector3::new(0.0, rho * g, 0.0)
+            } else {
+                Vector3::zeros()
+            }
         })
         .collect();
     Ok(Flow3 {
@@ -320,6 +335,9 @@ pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
         bed: (!bed.is_flat()).then_some(bed),
         slip: f.walls == WallCondition::Slip,
         p,
+        tau: case.solver.tau,
+        gamma: case.solver.gamma,
+        pi,
         h_m: h,
         alpha_h_m: case.solver.alpha * h,
         wall_margin_m: case.solver.wall_margin_h * h,

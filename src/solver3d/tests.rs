@@ -28,7 +28,7 @@ fn one_step_at_rest(
     let u_star = vec![Vector3::new(0.0, -G * DT, 0.0); p.len()];
     let elements = elements(p, &mesh, &shape).unwrap();
     let (pressure, _) = pressure(
-        p, &mesh, &shape, &elements, &u_star, RHO, DT, solver, None, None, None,
+        p, &mesh, &shape, &elements, &u_star, RHO, DT, solver, None, None, None, None, None,
     )
     .unwrap();
     let u = correct(&mesh, &shape, &elements, &u_star, &pressure, RHO, DT);
@@ -295,6 +295,7 @@ fn cases_the_3d_path_cannot_run_are_refused_with_the_field() {
         ("solver.midpoint_move=true", "solver.midpoint_move"),
         ("solver.delta=0.03", "solver.delta"),
         ("solver.geometry_theta=1", "solver.geometry_theta"),
+        ("solver.theta=0.5", "solver.theta"),
         // 1.0 h is 1.22 h in 3D, above α = 1.2 (valid in 2D).
         ("solver.insert_radius_h=1.0", "solver.insert_radius_h"),
     ] {
@@ -362,6 +363,8 @@ fn the_weak_surface_keeps_a_jittered_tank_at_rest_with_the_level_raised_by_lambd
         DT,
         Solver3::Cholesky,
         Some(weak),
+        None,
+        None,
         None,
         None,
     )
