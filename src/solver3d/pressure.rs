@@ -130,23 +130,7 @@ pub fn nodal_gradient(
     elements: &[P1Tet],
     p: &[f64],
 ) -> Vec<Vector3<f64>> {
-    let n = p.len();
-    let mut mass = vec![0.0; n];
-    let mut grad = vec![Vector3::zeros(); n];
-    for (&t, e) in shape.kept.iter().zip(elements) {
-        let v = mesh.tets[t as usize];
-        let g: Vector3<f64> = (0..4).map(|j| e.grad[j] * p[v[j] as usize]).sum();
-        for &i in &v {
-            mass[i as usize] += e.volume / 4.0;
-            grad[i as usize] += g * (e.volume / 4.0);
-        }
-    }
-    for (g, m) in grad.iter_mut().zip(&mass) {
-        if *m > 0.0 {
-            *g /= *m;
-        }
-    }
-    grad
+    weighted_gradient(mesh, shape, elements, p, |_, e| e.volume / 4.0)
 }
 
 /// The nodes' projection of −∇p: π_i = −Σ_e τ_e (V/4) ∇p_e / Σ_e τ_e (V/4) over the kept
@@ -158,24 +142,38 @@ pub fn projection(
     tau_e: &[f64],
     p: &[f64],
 ) -> Vec<Vector3<f64>> {
+    let mut pi = weighted_gradient(mesh, shape, elements, p, |k, e| tau_e[k] * e.volume / 4.0);
+    pi.iter_mut().for_each(|g| *g = -*g);
+    pi
+}
+
+/// Σ_e w_e ∇p_e / Σ_e w_e per node over the kept tetrahedra around it (0 where Σ w_e is 0),
+/// `weight(k, e)` giving w of the k-th kept tetrahedron.
+fn weighted_gradient(
+    mesh: &Tetrahedralisation,
+    shape: &AlphaShape,
+    elements: &[P1Tet],
+    p: &[f64],
+    weight: impl Fn(usize, &P1Tet) -> f64,
+) -> Vec<Vector3<f64>> {
     let n = p.len();
-    let mut weight = vec![0.0; n];
-    let mut pi = vec![Vector3::zeros(); n];
-    for ((&t, e), &tau) in shape.kept.iter().zip(elements).zip(tau_e) {
+    let mut sum = vec![0.0; n];
+    let mut grad = vec![Vector3::zeros(); n];
+    for (k, (&t, e)) in shape.kept.iter().zip(elements).enumerate() {
         let v = mesh.tets[t as usize];
         let g: Vector3<f64> = (0..4).map(|j| e.grad[j] * p[v[j] as usize]).sum();
-        let w = tau * e.volume / 4.0;
+        let w = weight(k, e);
         for &i in &v {
-            weight[i as usize] += w;
-            pi[i as usize] -= g * w;
+            sum[i as usize] += w;
+            grad[i as usize] += g * w;
         }
     }
-    for (pi, w) in pi.iter_mut().zip(&weight) {
+    for (g, w) in grad.iter_mut().zip(&sum) {
         if *w > 0.0 {
-            *pi /= *w;
+            *g /= *w;
         }
     }
-    pi
+    grad
 }
 
 /// The pressure (Pa) at every node (0 off the mesh, and on the free surface unless `weak`) for
