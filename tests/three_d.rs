@@ -7,9 +7,14 @@ mod common;
 use std::process::Command;
 
 fn run(dir: &std::path::Path, extra: &[&str]) -> (Option<i32>, String) {
+    run_case("cases/tank3d_still.toml", dir, extra)
+}
+
+/// `surflab run CASE --quiet --out DIR EXTRA…`: the exit code and stderr (printed).
+fn run_case(case: &str, dir: &std::path::Path, extra: &[&str]) -> (Option<i32>, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_surflab"))
         .current_dir(common::root())
-        .args(["run", "cases/tank3d_still.toml", "--quiet", "--out"])
+        .args(["run", case, "--quiet", "--out"])
         .arg(dir)
         .args(extra)
         .output()
@@ -195,38 +200,24 @@ fn a_3d_station_integrates_the_flow_from_the_bed_to_the_surface() {
 #[test]
 fn a_3d_run_averages_its_undertow_stations_over_whole_periods() {
     let dir = common::out_dir("three_d_stations");
-    let out = Command::new(env!("CARGO_BIN_EXE_surflab"))
-        .current_dir(common::root())
-        .args([
-            "run",
-            "cases/tank3d_piston.toml",
-            "--quiet",
-            "--no-rrd",
-            "--out",
-        ])
-        .arg(&dir)
-        .args(
-            [
-                "flume.length_m=1.2",
-                "water.0.x_end_m=1.2",
-                "wavemaker.period_s=0.4",
-                "wavemaker.height_m=0.005",
-                "wavemaker.ramp_periods=0.5",
-                "time.end_s=0.45",
-                "output.gauges_x_m=[]",
-                "output.planes_z_m=[]",
-                "surf.stations_x_m=[0.6, 0.9]",
-                "surf.stations_z_m=[0.05, 0.05]",
-                "surf.spin_up_periods=0",
-            ]
-            .iter()
-            .flat_map(|s| ["--set", s]),
-        )
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    println!("{stderr}");
-    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    let mut extra = vec!["--no-rrd"];
+    for set in [
+        "flume.length_m=1.2",
+        "water.0.x_end_m=1.2",
+        "wavemaker.period_s=0.4",
+        "wavemaker.height_m=0.005",
+        "wavemaker.ramp_periods=0.5",
+        "time.end_s=0.45",
+        "output.gauges_x_m=[]",
+        "output.planes_z_m=[]",
+        "surf.stations_x_m=[0.6, 0.9]",
+        "surf.stations_z_m=[0.05, 0.05]",
+        "surf.spin_up_periods=0",
+    ] {
+        extra.extend(["--set", set]);
+    }
+    let (code, stderr) = run_case("cases/tank3d_piston.toml", &dir, &extra);
+    assert_eq!(code, Some(0), "{stderr}");
     assert!(stderr.contains("undertow over 1 periods"), "{stderr}");
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
