@@ -126,6 +126,9 @@ pub struct Flow3 {
     /// An interior fluid node closer than this to a neighbour is removed (`nodes`), m; `None`:
     /// no removal.
     pub remove_distance_m: Option<f64>,
+    /// Two free-surface fluid nodes closer than this along a kept edge become one (`nodes`),
+    /// m; `None`: no merging.
+    pub merge_distance_m: Option<f64>,
 }
 
 /// The stages of [`Flow3::step`], in order.
@@ -682,6 +685,7 @@ pub fn still_tank(nx: usize, ny: usize, nz: usize, h: f64, jitter: f64) -> Flow3
         piston: None,
         insert_radius_m: None,
         remove_distance_m: None,
+        merge_distance_m: None,
     }
 }
 

@@ -18,7 +18,12 @@
 //!   lies within h/2 of one of its nodes;
 //! - removal: an interior fluid node (in the mesh, not on the free surface, so the volume does
 //!   not change) closer than the remove distance to a neighbour along an edge of a kept
-//!   tetrahedron is removed (one of each pair).
+//!   tetrahedron is removed (one of each pair);
+//! - merging (`solver.merge_surface_distance_h`, off by default, as in 2D): two free-surface
+//!   fluid nodes joined by an edge of a kept tetrahedron and closer than that times h become
+//!   one at their midpoint with their mean velocity (a merged node is not merged again in the
+//!   same step): colliding surface particles make slivers with their neighbours that removal,
+//!   which spares the surface, does not reach.
 //!
 //! The insert radius is the case's `solver.insert_radius_h` times √3/√2: the tetrahedra of a
 //! cubic lattice of spacing h have a circumradius of √3/2 h where the triangles of a square
@@ -101,38 +106,65 @@ impl Flow3 {
                 self.was_free.push(false);
             }
         }
-        let Some(distance_m) = self.remove_distance_m else {
-            return changes;
-        };
         let removable = |i: usize| self.walls[i] == 0 && self.in_mesh[i] && !self.was_free[i];
+        let surface = |i: usize| self.walls[i] == 0 && self.in_mesh[i] && self.was_free[i];
+        let close = |i: usize, j: usize, d: f64| {
+            (0..3)
+                .map(|k| (self.x[i][k] - self.x[j][k]).powi(2))
+                .sum::<f64>()
+                < d * d
+        };
         let mut drop = vec![false; self.x.len()];
+        let mut merged: Vec<(usize, usize, [f64; 3], Vector3<f64>)> = Vec::new();
         for &t in &shape.kept {
             let v = mesh.tets[t as usize].map(|i| i as usize);
             for a in 0..4 {
                 for b in a + 1..4 {
                     let (i, j) = (v[a], v[b]);
-                    let d2: f64 = (0..3).map(|k| (self.x[i][k] - self.x[j][k]).powi(2)).sum();
-                    if drop[i] || drop[j] || d2 >= distance_m * distance_m {
+                    if drop[i] || drop[j] {
                         continue;
                     }
-                    if removable(j) {
+                    if let Some(d) = self.remove_distance_m
+                        && close(i, j, d)
+                    {
+                        if removable(j) {
+                            drop[j] = true;
+                            continue;
+                        } else if removable(i) {
+                            drop[i] = true;
+                            continue;
+                        }
+                    }
+                    if let Some(d) = self.merge_distance_m
+                        && surface(i)
+                        && surface(j)
+                        && close(i, j, d)
+                        && !merged.iter().any(|m| m.0 == i || m.0 == j)
+                    {
                         drop[j] = true;
-                    } else if removable(i) {
-                        drop[i] = true;
+                        let x = std::array::from_fn(|k| 0.5 * (self.x[i][k] + self.x[j][k]));
+                        merged.push((i, j, x, 0.5 * (self.u[i] + self.u[j])));
                     }
                 }
             }
         }
+        for &(i, _, x, u) in &merged {
+            self.x[i] = x;
+            self.u[i] = u;
+        }
         changes.removed = drop.iter().filter(|&&d| d).count();
         if changes.removed > 0 {
-            self.remove_nodes(&drop);
+            let into: Vec<(usize, usize)> = merged.iter().map(|m| (m.1, m.0)).collect();
+            self.remove_nodes(&drop, &into);
         }
         changes
     }
 
     /// Drops the nodes marked in `drop` (all of them fluid nodes) and renumbers the rest in
-    /// order.
-    fn remove_nodes(&mut self, drop: &[bool]) {
+    /// order. A dropped node `j` of a pair (`j`, `i`) in `into` was merged into `i`: the last
+    /// free surface and tetrahedra name `i` where they named `j` (those left with a repeated
+    /// node are dropped), so that the surface stays closed until the next remesh.
+    fn remove_nodes(&mut self, drop: &[bool], into: &[(usize, usize)]) {
         let mut new_index = vec![u32::MAX; drop.len()];
         let mut next = 0u32;
         for (i, &d) in drop.iter().enumerate() {
@@ -140,6 +172,9 @@ impl Flow3 {
                 new_index[i] = next;
                 next += 1;
             }
+        }
+        for &(j, i) in into {
+            new_index[j] = new_index[i];
         }
         fn keep<T: Copy>(v: &mut Vec<T>, drop: &[bool]) {
             let mut i = 0;
@@ -155,14 +190,17 @@ impl Flow3 {
         keep(&mut self.walls, drop);
         keep(&mut self.in_mesh, drop);
         keep(&mut self.was_free, drop);
+        let distinct = |v: &[u32]| (1..v.len()).all(|a| !v[..a].contains(&v[a]));
         for f in &mut self.surface {
             *f = f.map(|i| new_index[i as usize]);
         }
-        self.tetrahedra
-            .retain(|t| t.iter().all(|&i| !drop[i as usize]));
+        self.surface
+            .retain(|f| distinct(f) && f.iter().all(|&i| i != u32::MAX));
         for t in &mut self.tetrahedra {
             *t = t.map(|i| new_index[i as usize]);
         }
+        self.tetrahedra
+            .retain(|t| distinct(t) && t.iter().all(|&i| i != u32::MAX));
         if let Some(piston) = &mut self.piston {
             piston.renumber(&new_index);
         }
