@@ -206,3 +206,50 @@ impl Flow3 {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::tests::tank_with_nodes;
+    use super::{Flow3, NodeChanges3};
+    /// Two free-surface particles 0.15 h apart: removal spares the surface, merging at 0.2 h makes
+    /// them one particle at their midpoint.
+    #[test]
+    fn colliding_surface_particles_merge_into_one() {
+        let h = 0.1;
+        let collide = |merge: Option<f64>| {
+            let mut flow = tank_with_nodes(h);
+            flow.merge_distance_m = merge.map(|d| d * h);
+            let top = (0..flow.x.len())
+                .filter(|&i| flow.walls[i] == 0)
+                .map(|i| flow.x[i][1])
+                .fold(f64::MIN, f64::max);
+            let at = |f: &Flow3, x: f64| {
+                (0..f.x.len())
+                    .find(|&i| {
+                        f.walls[i] == 0
+                            && (f.x[i][1] - top).abs() < 1e-9
+                            && (f.x[i][0] - x).abs() < 1e-9
+                            && (f.x[i][2] - 3.0 * h).abs() < 1e-9
+                    })
+                    .unwrap()
+            };
+            let (a, b) = (at(&flow, 4.0 * h), at(&flow, 5.0 * h));
+            flow.x[a][0] += 0.85 * h;
+            let target = [0.5 * (flow.x[a][0] + flow.x[b][0]), top, 3.0 * h];
+            let n = flow.x.len();
+            let s = flow.step(1e-6).unwrap();
+            (s.nodes, n, flow, target)
+        };
+        let (spared, n, flow, _) = collide(None);
+        assert_eq!(spared, NodeChanges3::default());
+        assert_eq!(flow.x.len(), n);
+        let (merged, n, flow, target) = collide(Some(0.2));
+        println!("merged: {merged:?}");
+        assert_eq!((merged.inserted, merged.removed), (0, 1));
+        assert_eq!(flow.x.len(), n - 1);
+        assert!(
+            (0..flow.x.len()).any(|i| (0..3).all(|k| (flow.x[i][k] - target[k]).abs() < 1e-9)),
+            "no particle at the midpoint {target:?}"
+        );
+    }
+}
