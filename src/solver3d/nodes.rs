@@ -211,6 +211,7 @@ impl Flow3 {
 mod tests {
     use super::super::tests::tank_with_nodes;
     use super::{Flow3, NodeChanges3};
+
     /// Two free-surface particles 0.15 h apart: removal spares the surface, merging at 0.2 h makes
     /// them one particle at their midpoint.
     #[test]
