@@ -25,6 +25,9 @@ pub struct Ledger3 {
     pub guarded: usize,
     pub inserted: usize,
     pub removed: usize,
+    /// The longest step since the counts were last taken, s: the Δt the policy set (the
+    /// steps that land on a target time are shorter).
+    pub longest_dt_s: f64,
 }
 
 pub struct Simulation3 {
@@ -132,6 +135,7 @@ impl Simulation3 {
         l.remeshes_m3 += s.volume_m3 - self.last_moved_m3;
         l.moves_m3 += s.moved_volume_m3 - s.volume_m3;
         l.guarded += s.guarded;
+        l.longest_dt_s = l.longest_dt_s.max(dt);
         l.inserted += s.nodes.inserted;
         l.removed += s.nodes.removed;
         self.last_moved_m3 = s.moved_volume_m3;
@@ -145,6 +149,7 @@ impl Simulation3 {
         self.ledger.guarded = 0;
         self.ledger.inserted = 0;
         self.ledger.removed = 0;
+        self.ledger.longest_dt_s = 0.0;
         now
     }
 

@@ -92,7 +92,9 @@ pub fn run(case: &Case, opts: &RunOptions) -> Result<RunOutcome, RunError> {
     let mut timings = StageStats::default();
     let mut logging_ms: Vec<f64> = Vec::new();
     let mut iterations: Vec<f64> = Vec::new();
-    let mut last_dt = 0.0;
+    // The longest step since the previous row: the Δt the policy set (the steps that land on
+    // an output time are shorter), written as `dt_s`.
+    let mut longest_dt = 0.0f64;
     // Insertion and removal change the particle count: particle-steps are summed per step.
     let mut particle_steps = 0.0;
     let mut progress = Progress::new(opts.progress, end_s);
@@ -102,12 +104,12 @@ pub fn run(case: &Case, opts: &RunOptions) -> Result<RunOutcome, RunError> {
     let mut record = |sim: &Simulation,
                       surf: &mut SurfRecorder,
                       last: Option<&crate::solver::StageTimings>,
-                      last_dt: f64|
+                      dt_s: f64|
      -> Result<(), RunError> {
         let t0 = Instant::now();
         let frame = Frame::of(sim);
         let events = surf.record(sim, frame.integrals.volume_m2);
-        csv.row(&frame.integrals, sim.initial_volume_m2, sim.steps, last_dt)
+        csv.row(&frame.integrals, sim.initial_volume_m2, sim.steps, dt_s)
             .map_err(io_err(&csv_path))?;
         if let Some(g) = gauge_csv.as_mut() {
             g.row(sim.time_s, &frame.gauges)
@@ -134,7 +136,7 @@ pub fn run(case: &Case, opts: &RunOptions) -> Result<RunOutcome, RunError> {
                 Ok(report) => {
                     timings.push(report.timings);
                     iterations.push(report.pressure_iterations as f64);
-                    last_dt = report.dt_s;
+                    longest_dt = longest_dt.max(report.dt_s);
                     surf.step(&sim, report.dt_s);
                     particle_steps += sim.particles.len() as f64;
                     progress.update(sim.time_s, sim.steps);
@@ -152,7 +154,8 @@ pub fn run(case: &Case, opts: &RunOptions) -> Result<RunOutcome, RunError> {
             status = f;
             break;
         }
-        record(&sim, &mut surf, timings.last(), last_dt)?;
+        record(&sim, &mut surf, timings.last(), longest_dt)?;
+        longest_dt = 0.0;
         k += 1;
     }
     let wall_s = started.elapsed().as_secs_f64();

@@ -21,7 +21,8 @@ use std::time::Instant;
 #[derive(Debug, Clone, Copy, Serialize)]
 pub struct Row3 {
     pub t_s: f64,
-    /// The last step's Δt, s (0 in the first row).
+    /// The longest step since the previous row, s: the Δt the policy set, where the steps that
+    /// land on the output time are shorter (0 in the first row).
     pub dt_s: f64,
     pub steps: u64,
     /// Volume of the kept tetrahedra, m³ (at the start of the last step: one Δt behind `t_s`).
@@ -48,7 +49,7 @@ impl Row3 {
         let last = sim.last;
         Row3 {
             t_s: sim.time_s,
-            dt_s: sim.last_dt_s,
+            dt_s: l.longest_dt_s,
             steps: sim.steps,
             volume_m3: sim.volume_m3(),
             tetrahedra: last.map_or(0, |s| s.tetrahedra),
