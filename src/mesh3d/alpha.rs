@@ -16,7 +16,12 @@
 //! kept: dropping it would open a hole (the solver leaves the flattest out of its operators,
 //! `solver3d::FLAT_QUALITY`, whose entries grow like 1/thickness). On the surface it is a skin
 //! across the free surface that holds no water, so it is dropped, repeatedly, until no sliver
-//! has a face on the surface. A sliver is a tetrahedron of quality q = 6√2 V / l_rms³ <
+//! has a face on the surface — but with the last step's free surface known, only a sliver
+//! whose fluid nodes were all on it: one of three surface nodes and a node of the water (in
+//! the 3D sloshing, 0.7 of a spacing under them) stays, since dropping it made that node a
+//! free-surface node, p = 0 where the water's pressure is ρ g times its depth, and the
+//! surface around fell into the pit (the 3D sloshing's first spike, `docs/three_d.md`). A
+//! sliver is a tetrahedron of quality q = 6√2 V / l_rms³ <
 //! [`SLIVER_QUALITY`] (q = 1 for the regular tetrahedron, 0.66 for the six of a cube's Kuhn
 //! split, 0.77 for the corners of its five).
 
@@ -205,6 +210,14 @@ pub fn alpha_shape_with(
     loop {
         let peel: Vec<usize> = (0..mesh.tets.len())
             .filter(|&t| keep[t] && sliver[t] && (0..4).any(|i| on_surface(&keep, t, i)))
+            // Not a sliver that holds a fluid node of the last step's water (module doc).
+            .filter(|&t| {
+                contact.is_none_or(|c| {
+                    mesh.tets[t]
+                        .iter()
+                        .all(|&i| c.was_free[i as usize] || is_wall(i))
+                })
+            })
             .collect();
         if peel.is_empty() {
             break;

@@ -305,3 +305,33 @@ fn quality_of_the_regular_and_kuhn_tetrahedra() {
     ];
     assert_eq!(quality([&flat[0], &flat[1], &flat[2], &flat[3]]), 0.0);
 }
+
+#[test]
+fn a_surface_sliver_with_a_node_of_the_water_stays_and_a_skin_is_peeled() {
+    // Three surface nodes on a circle of radius 0.6 h and a fourth 0.03 h under that circle:
+    // a sliver (q 0.047) of small circumradius, alone, so every face is on the surface.
+    let (h, r, d) = (0.02, 0.012, 0.0006);
+    let s = 3f64.sqrt() / 2.0;
+    let p = vec![
+        [r, 0.0, 0.0],
+        [-r / 2.0, 0.0, r * s],
+        [-r / 2.0, 0.0, -r * s],
+        [-r, -d, 0.0],
+    ];
+    let q = quality([&p[0], &p[1], &p[2], &p[3]]);
+    let mesh = tetrahedralise(&p);
+    let walls = vec![0u16; 4];
+    let kept = |was_free: &[bool]| {
+        let contact = ContactLine {
+            was_free,
+            up_axis: 1,
+        };
+        alpha_shape_with(&p, &walls, &mesh, 1.2 * h, Some(contact), None)
+            .kept
+            .len()
+    };
+    let (water, skin) = (kept(&[true, true, true, false]), kept(&[true; 4]));
+    println!("sliver q {q:.3}: kept with a node of the water {water}, as a skin {skin}");
+    assert!(q < SLIVER_QUALITY && mesh.tets.len() == 1);
+    assert_eq!((water, skin), (1, 0));
+}
