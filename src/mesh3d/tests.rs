@@ -309,7 +309,7 @@ fn quality_of_the_regular_and_kuhn_tetrahedra() {
 #[test]
 fn a_surface_sliver_with_a_node_of_the_water_stays_and_a_skin_is_peeled() {
     // Three surface nodes on a circle of radius 0.6 h and a fourth 0.03 h under that circle:
-    // a sliver (q 0.047) of small circumradius, alone, so every face is on the surface.
+    // a sliver (q 0.046) of small circumradius, alone, so every face is on the surface.
     let (h, r, d) = (0.02, 0.012, 0.0006);
     let s = 3f64.sqrt() / 2.0;
     let p = vec![
