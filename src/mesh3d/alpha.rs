@@ -2,7 +2,7 @@
 //! is, and what happens to slivers.
 //!
 //! Rules, as the 2D mesher's (`mesh`): a tetrahedron is a candidate when its circumradius is
-//! below α h. A candidate whose four nodes are wall nodes is kept only if one of them is wetted
+//! below α h ([`WATER_ALPHA_FACTOR`] α h when it holds a fluid node of the last step's water). A candidate whose four nodes are wall nodes is kept only if one of them is wetted
 //! (PFEM3D's rule, here within two candidates of a fluid node rather than one: a lattice's cube
 //! split into five can leave a corner of three walls with no node in a candidate with a fluid
 //! node): that keeps the water in the flume's corners, where the Delaunay split of a corner
@@ -30,6 +30,13 @@ use super::{NONE, Tetrahedralisation, circumsphere};
 
 /// Below this quality a tetrahedron is a sliver.
 pub const SLIVER_QUALITY: f64 = 0.05;
+
+/// With the last step's free surface known, a tetrahedron holding a fluid node that was not
+/// on it (a node of the water) is a candidate up to this many times α h: the α test dropping
+/// a barely stretched one (1.002 α h in the 3D sloshing) made that node a free-surface node
+/// under the surface, as the sliver peel did (module doc). Measured at 1.5 only
+/// (`docs/three_d.md`, *The piston*).
+pub const WATER_ALPHA_FACTOR: f64 = 1.5;
 
 /// The kept tetrahedra and the free surface.
 #[derive(Debug, Clone, Default)]
@@ -129,7 +136,18 @@ pub fn alpha_shape_with(
             } else {
                 circumsphere(x[0], x[1], x[2], x[3]).1
             };
-            radius < alpha_h_m
+            // A tetrahedron holding a fluid node of the last step's water (module doc).
+            let holds_water = contact.is_some_and(|c| {
+                mesh.tets[t]
+                    .iter()
+                    .any(|&i| !c.was_free[i as usize] && !is_wall(i))
+            });
+            let bound = if holds_water {
+                WATER_ALPHA_FACTOR * alpha_h_m
+            } else {
+                alpha_h_m
+            };
+            radius < bound
                 && !contact.is_some_and(|c| air_at_contact_line(points, walls, mesh.tets[t], c))
         })
         .collect();

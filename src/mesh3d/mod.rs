@@ -7,7 +7,8 @@ pub mod delaunay;
 mod order;
 
 pub use alpha::{
-    AlphaShape, ContactLine, InSolid, SLIVER_QUALITY, alpha_shape, alpha_shape_with, quality,
+    AlphaShape, ContactLine, InSolid, SLIVER_QUALITY, WATER_ALPHA_FACTOR, alpha_shape,
+    alpha_shape_with, quality,
 };
 pub use delaunay::{NONE, Tetrahedralisation, Tetrahedraliser, circumsphere, tetrahedralise};
 

@@ -335,3 +335,27 @@ fn a_surface_sliver_with_a_node_of_the_water_stays_and_a_skin_is_peeled() {
     assert!(q < SLIVER_QUALITY && mesh.tets.len() == 1);
     assert_eq!((water, skin), (1, 0));
 }
+
+#[test]
+fn a_stretched_tetrahedron_holding_a_node_of_the_water_stays_water() {
+    // A regular tetrahedron whose circumradius is 1.2 α h: air when its four nodes were on
+    // the last free surface, water when one was inside it (up to WATER_ALPHA_FACTOR α h).
+    let alpha_h = 0.024;
+    let c = 1.2 * alpha_h / 3f64.sqrt();
+    let p = vec![[c, c, c], [c, -c, -c], [-c, c, -c], [-c, -c, c]];
+    let mesh = tetrahedralise(&p);
+    let walls = vec![0u16; 4];
+    let kept = |was_free: &[bool]| {
+        let contact = ContactLine {
+            was_free,
+            up_axis: 1,
+        };
+        alpha_shape_with(&p, &walls, &mesh, alpha_h, Some(contact), None)
+            .kept
+            .len()
+    };
+    let (water, air) = (kept(&[true, false, true, true]), kept(&[true; 4]));
+    println!("R = 1.2 α h: kept with a node of the water {water}, with four surface nodes {air}");
+    assert!(WATER_ALPHA_FACTOR > 1.2 && mesh.tets.len() == 1);
+    assert_eq!((water, air), (1, 0));
+}
