@@ -2,7 +2,8 @@
 //! is, and what happens to slivers.
 //!
 //! Rules, as the 2D mesher's (`mesh`): a tetrahedron is a candidate when its circumradius is
-//! below α h ([`WATER_ALPHA_FACTOR`] α h when it holds a fluid node of the last step's water). A candidate whose four nodes are wall nodes is kept only if one of them is wetted
+//! below α h ([`WATER_ALPHA_FACTOR`] α h when it holds a fluid node of the last step's
+//! water). A candidate whose four nodes are wall nodes is kept only if one of them is wetted
 //! (PFEM3D's rule, here within two candidates of a fluid node rather than one: a lattice's cube
 //! split into five can leave a corner of three walls with no node in a candidate with a fluid
 //! node): that keeps the water in the flume's corners, where the Delaunay split of a corner
@@ -35,7 +36,9 @@ pub const SLIVER_QUALITY: f64 = 0.05;
 /// on it (a node of the water) is a candidate up to this many times α h: the α test dropping
 /// a barely stretched one (1.002 α h in the 3D sloshing) made that node a free-surface node
 /// under the surface, as the sliver peel did (module doc). Measured at 1.5 only
-/// (`docs/three_d.md`, *The piston*).
+/// (`docs/three_d.md`, *The piston*). "Not on it" includes a node that was in no kept
+/// tetrahedron (a flying particle), which so joins the water at this bound too; no case with
+/// spray has been measured with it.
 pub const WATER_ALPHA_FACTOR: f64 = 1.5;
 
 /// The kept tetrahedra and the free surface.

@@ -306,6 +306,19 @@ fn quality_of_the_regular_and_kuhn_tetrahedra() {
     assert_eq!(quality([&flat[0], &flat[1], &flat[2], &flat[3]]), 0.0);
 }
 
+/// How many tetrahedra of `mesh` (fluid nodes only) the α-shape keeps after a step whose free
+/// surface was `was_free`.
+fn kept_after(p: &[[f64; 3]], mesh: &Tetrahedralisation, was_free: &[bool], alpha_h: f64) -> usize {
+    let contact = ContactLine {
+        was_free,
+        up_axis: 1,
+    };
+    let walls = vec![0u16; p.len()];
+    alpha_shape_with(p, &walls, mesh, alpha_h, Some(contact), None)
+        .kept
+        .len()
+}
+
 #[test]
 fn a_surface_sliver_with_a_node_of_the_water_stays_and_a_skin_is_peeled() {
     // Three surface nodes on a circle of radius 0.6 h and a fourth 0.03 h under that circle:
@@ -320,16 +333,7 @@ fn a_surface_sliver_with_a_node_of_the_water_stays_and_a_skin_is_peeled() {
     ];
     let q = quality([&p[0], &p[1], &p[2], &p[3]]);
     let mesh = tetrahedralise(&p);
-    let walls = vec![0u16; 4];
-    let kept = |was_free: &[bool]| {
-        let contact = ContactLine {
-            was_free,
-            up_axis: 1,
-        };
-        alpha_shape_with(&p, &walls, &mesh, 1.2 * h, Some(contact), None)
-            .kept
-            .len()
-    };
+    let kept = |was_free: &[bool]| kept_after(&p, &mesh, was_free, 1.2 * h);
     let (water, skin) = (kept(&[true, true, true, false]), kept(&[true; 4]));
     println!("sliver q {q:.3}: kept with a node of the water {water}, as a skin {skin}");
     assert!(q < SLIVER_QUALITY && mesh.tets.len() == 1);
@@ -344,16 +348,7 @@ fn a_stretched_tetrahedron_holding_a_node_of_the_water_stays_water() {
     let c = 1.2 * alpha_h / 3f64.sqrt();
     let p = vec![[c, c, c], [c, -c, -c], [-c, c, -c], [-c, -c, c]];
     let mesh = tetrahedralise(&p);
-    let walls = vec![0u16; 4];
-    let kept = |was_free: &[bool]| {
-        let contact = ContactLine {
-            was_free,
-            up_axis: 1,
-        };
-        alpha_shape_with(&p, &walls, &mesh, alpha_h, Some(contact), None)
-            .kept
-            .len()
-    };
+    let kept = |was_free: &[bool]| kept_after(&p, &mesh, was_free, alpha_h);
     let (water, air) = (kept(&[true, false, true, true]), kept(&[true; 4]));
     println!("R = 1.2 α h: kept with a node of the water {water}, with four surface nodes {air}");
     assert!(WATER_ALPHA_FACTOR > 1.2 && mesh.tets.len() == 1);
