@@ -129,6 +129,17 @@ pub fn alpha_shape_with(
     let nodes = |t: usize| mesh.tets[t].map(|i| &points[i as usize]);
     let quality_of: Vec<f64> = (0..mesh.tets.len()).map(|t| quality(nodes(t))).collect();
     let is_sliver: Vec<bool> = quality_of.iter().map(|&q| q < SLIVER_QUALITY).collect();
+    // A tetrahedron holding a fluid node of the last step's water (not on its free surface):
+    // a candidate to WATER_ALPHA_FACTOR α h, and never peeled as a sliver (module doc).
+    let holds_water: Vec<bool> = (0..mesh.tets.len())
+        .map(|t| {
+            contact.is_some_and(|c| {
+                mesh.tets[t]
+                    .iter()
+                    .any(|&i| !c.was_free[i as usize] && !is_wall(i))
+            })
+        })
+        .collect();
     let candidate: Vec<bool> = (0..mesh.tets.len())
         .map(|t| {
             let x = nodes(t);
@@ -139,13 +150,7 @@ pub fn alpha_shape_with(
             } else {
                 circumsphere(x[0], x[1], x[2], x[3]).1
             };
-            // A tetrahedron holding a fluid node of the last step's water (module doc).
-            let holds_water = contact.is_some_and(|c| {
-                mesh.tets[t]
-                    .iter()
-                    .any(|&i| !c.was_free[i as usize] && !is_wall(i))
-            });
-            let bound = if holds_water {
+            let bound = if holds_water[t] {
                 WATER_ALPHA_FACTOR * alpha_h_m
             } else {
                 alpha_h_m
@@ -231,14 +236,7 @@ pub fn alpha_shape_with(
     loop {
         let peel: Vec<usize> = (0..mesh.tets.len())
             .filter(|&t| keep[t] && sliver[t] && (0..4).any(|i| on_surface(&keep, t, i)))
-            // Not a sliver that holds a fluid node of the last step's water (module doc).
-            .filter(|&t| {
-                contact.is_none_or(|c| {
-                    mesh.tets[t]
-                        .iter()
-                        .all(|&i| c.was_free[i as usize] || is_wall(i))
-                })
-            })
+            .filter(|&t| !holds_water[t])
             .collect();
         if peel.is_empty() {
             break;
