@@ -72,7 +72,8 @@ enum Command {
     /// Run a case and check it: a wavemaker's waves against theory (issue 3): a flap or piston
     /// into an absorbing end, a standing wave at a wall, or a cnoidal piston; a dam break
     /// against Martin & Moyce (1952); a Ting & Kirby surf case against its breaking point,
-    /// type, undertow balance and volume. Prints each figure against its bar, writes
+    /// type, undertow balance and volume; a narrow 3D tank with a linear piston against its 2D
+    /// twin (run too, into DIR/2d), wave height by wave height. Prints each figure against its bar, writes
     /// validation.json beside the run, exits non-zero if one fails.
     Validate {
         /// The case file, e.g. cases/flap_deep_water.toml.
@@ -417,6 +418,24 @@ fn cmd_validate(
             };
             let (figures, drift, status) = if case.flume.width_m.is_some() {
                 let s = surflab::output::run3d::run3d(&case, &opts)?.summary;
+                if surflab::validation::against_2d::applies(&case) && s.status == "ok" {
+                    // The 2D twin, for the check against the 2D code.
+                    let twin = surflab::validation::against_2d::twin_2d(&case)?;
+                    let twin_dir = dir.join(surflab::study::TWIN_2D_DIR);
+                    eprintln!("surflab: its 2D twin, output to {}", twin_dir.display());
+                    let twin_opts = RunOptions {
+                        out_dir: twin_dir,
+                        ..opts.clone()
+                    };
+                    let t = run(&twin, &twin_opts)?.summary;
+                    eprintln!("surflab: 2D: {}", t.run.line());
+                    if t.status != "ok" {
+                        bail!(
+                            "the 2D twin did not finish ({}); nothing to compare",
+                            t.status
+                        );
+                    }
+                }
                 (s.run, s.volume_drift_max, s.status)
             } else {
                 let s = run(&case, &opts)?.summary;

@@ -2,6 +2,7 @@
 
 pub mod breaking;
 pub mod surface;
+pub mod surface_u1;
 pub mod undertow;
 pub mod undertow3d;
 

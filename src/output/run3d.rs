@@ -1,20 +1,23 @@
 //! A headless 3D run (a case with `flume.width_m`, issue 26): step the [`Flow3`] to the end
 //! time and at every output interval write a row of `timeseries.csv` and a frame of `run.rrd`
 //! (the particles as 3D points coloured by u1, the free surface as a mesh, the wetted wall
-//! nodes); `summary.json` at the end, whatever the end was. Numerical trouble ends the run with
+//! nodes); `summary.json` (and with a wavemaker `surface_u1.csv`) at the end, whatever the end
+//! was. Numerical trouble ends the run with
 //! a status; what was recorded stays readable.
 
 use super::rrd3d::Recorder3;
 use super::run::{Progress, RunError, RunOptions, io_err};
 use super::summary::{RunFigures, median};
 use super::timeseries::{GaugeWriter, gauge_columns};
-use crate::case::Case;
+use crate::case::{Bar, Case};
+use crate::diagnostics::surface_u1::{BarsU1, SurfaceU1Map};
 use crate::diagnostics::undertow::{Stations, UndertowSummary};
 use crate::geometry::bed3d::Bed3;
 use crate::simulation3d::Simulation3;
 use crate::solver3d::{Flow3, Integrals3, STAGES_3D};
 use serde::Serialize;
 use std::io::Write;
+use std::path::Path;
 use std::time::Instant;
 
 /// One output time of a 3D run.
@@ -86,6 +89,10 @@ pub struct Summary3 {
     /// periods after the spin-up, as in 2D (no station budget's ledger in 3D).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub undertow: Option<UndertowSummary>,
+    /// The free surface's largest u1 over the bars' crests against the channel
+    /// (`surface_u1.csv`, from the spin-up on; a tank with raised bars).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub surface_u1_over_bars: Option<BarsU1>,
 }
 
 impl Summary3 {
@@ -174,6 +181,15 @@ pub fn run3d(case: &Case, opts: &RunOptions) -> Result<Run3Outcome, RunError> {
     let bed = Bed3::from_flume(&case.flume);
     let mut stations = Stations::new(case, |x, z| bed.height(x, z));
     let flow_width = case.flume.width_m.unwrap_or(1.0);
+    // The free surface's u1 seen from above, from the spin-up on (a wavemaker's tanks).
+    let mut surface_u1 = case.wavemaker.as_ref().map(|w| {
+        SurfaceU1Map::new(
+            case.flume.length_m,
+            flow_width,
+            case.particles.spacing_m,
+            case.surf.spin_up_periods * w.period_s,
+        )
+    });
     let end_s = case.time.end_s;
     let interval = case.output.interval_s;
     let initial_volume = sim.initial_volume_m3;
@@ -192,6 +208,14 @@ pub fn run3d(case: &Case, opts: &RunOptions) -> Result<Run3Outcome, RunError> {
             .and_then(|()| csv.flush())
             .map_err(io_err(&csv_path))?;
         stations.record(&sim);
+        if let Some(map) = surface_u1.as_mut() {
+            let f = &sim.flow;
+            let u1: Vec<f64> = f.u.iter().map(|u| u[0]).collect();
+            let on_surface: Vec<bool> = (0..f.x.len())
+                .map(|i| f.walls[i] == 0 && f.in_mesh[i] && f.was_free.get(i) == Some(&true))
+                .collect();
+            map.record(sim.time_s, &f.x, &u1, &on_surface);
+        }
         let eta = gauge_values(case, &sim.flow);
         if let Some(g) = gauges.as_mut() {
             g.row(row.t_s, &eta).map_err(io_err(&gauge_path))?;
@@ -231,7 +255,7 @@ pub fn run3d(case: &Case, opts: &RunOptions) -> Result<Run3Outcome, RunError> {
         r.flush();
     }
     let wall_s = started.elapsed().as_secs_f64();
-    let summary = Summary3 {
+    let mut summary = Summary3 {
         parameters: case.clone(),
         status,
         run: RunFigures::new(
@@ -259,11 +283,40 @@ pub fn run3d(case: &Case, opts: &RunOptions) -> Result<Run3Outcome, RunError> {
                 case.surf.x_origin_m,
             )
         }),
+        surface_u1_over_bars: None,
     };
+    if let Some(map) = surface_u1.as_ref() {
+        let path = opts.out_dir.join("surface_u1.csv");
+        write_surface_u1(&path, map).map_err(io_err(&path))?;
+        let raised: Vec<Bar> = case
+            .flume
+            .bars
+            .iter()
+            .filter(|b| b.height_m > 0.0)
+            .cloned()
+            .collect();
+        summary.surface_u1_over_bars = map.over_bars(&raised);
+    }
     let summary_path = opts.out_dir.join("summary.json");
     let text = serde_json::to_string_pretty(&summary).expect("a summary serialises");
     std::fs::write(&summary_path, text).map_err(io_err(&summary_path))?;
     Ok(Run3Outcome { summary, rows })
+}
+
+/// `surface_u1.csv`: each counted cell's centre and the largest and smallest u1 of the free
+/// surface there, with the number of nodes counted.
+fn write_surface_u1(path: &Path, map: &SurfaceU1Map) -> std::io::Result<()> {
+    let mut out = std::io::BufWriter::new(std::fs::File::create(path)?);
+    writeln!(out, "x_m,z_m,u1_max_m_s,u1_min_m_s,samples")?;
+    for c in (0..map.samples.len()).filter(|&c| map.samples[c] > 0) {
+        let (x, z) = map.centre(c);
+        writeln!(
+            out,
+            "{x},{z},{},{},{}",
+            map.max_m_s[c], map.min_m_s[c], map.samples[c]
+        )?;
+    }
+    out.flush()
 }
 
 /// One row; `volume_m2` is the volume per metre of width (m³ / width), the 2D series' unit.

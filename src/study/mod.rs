@@ -103,8 +103,12 @@ fn io_error(path: &Path) -> impl FnOnce(std::io::Error) -> StudyError + '_ {
     }
 }
 
+/// Where a 3D narrow tank's run keeps its 2D twin's run (`validation::against_2d`).
+pub const TWIN_2D_DIR: &str = "2d";
+
 /// Validates the outputs a run of `case` wrote in `dir`, as `surflab validate` does: a surf
-/// case (a wavemaker and a beach) reads `summary.json` for Ting & Kirby's bars, another
+/// case (a wavemaker and a beach) reads `summary.json` for Ting & Kirby's bars, a 3D narrow
+/// tank with a linear piston its `gauges.csv` and its 2D twin's (in [`TWIN_2D_DIR`]), another
 /// wavemaker's checks read `gauges.csv`, the dam break's (no wavemaker) `timeseries.csv`.
 pub fn validate_outputs(
     dir: &Path,
@@ -126,6 +130,19 @@ pub fn validate_outputs(
                 message: format!("not JSON: {e}"),
             })?;
         return crate::validation::ting_kirby(case, &summary).map_err(check_error);
+    }
+    if crate::validation::against_2d::applies(case) {
+        let read =
+            |file: PathBuf| crate::output::timeseries::read_gauges(&file).map_err(io_error(&file));
+        let record_3d = read(dir.join("gauges.csv"))?;
+        let record_2d = read(dir.join(TWIN_2D_DIR).join("gauges.csv"))?;
+        return crate::validation::against_2d::against_2d(
+            case,
+            &record_3d,
+            &record_2d,
+            volume_drift_max,
+        )
+        .map_err(check_error);
     }
     let (record, series) = if case.wavemaker.is_some() {
         let file = dir.join("gauges.csv");

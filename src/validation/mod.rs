@@ -10,8 +10,10 @@
 //! - `cnoidal`: a cnoidal piston;
 //! - `dam_break`: the collapse of a water column (no wavemaker);
 //! - `surf`: a surf case against Ting & Kirby's breaking point, read from its summary;
+//! - `against_2d`: a narrow 3D tank with a linear piston against its 2D twin;
 //! - `fit`: the fits and wave statistics they share.
 
+pub mod against_2d;
 mod cnoidal;
 mod dam_break;
 mod fit;

@@ -1,0 +1,264 @@
+//! A 2D check of the 3D code (issue 26): a narrow 3D tank with slip side walls and a
+//! linear piston against the same case run by the 2D code, wave height by wave height.
+//!
+//! Each gauge is read over its own window, between the first wave at full height and the
+//! first of the end wall's reflection, both at the linear group velocity c_g: from
+//! (ramp + 1) T + (x − x_p)/c_g (the ramp's waves have passed, and one period more) to
+//! (2 x_w − x_p − x)/c_g (the ramp's first wave there and back from the wall at x_w), or the
+//! record's end. Heights are zero-crossing means over the window's whole waves, in both runs
+//! alike; the 3D height at every gauge within two wavelengths of the piston must lie within
+//! 5 % of the 2D one. Gauges further off are reported, not checked.
+
+use super::fit::crossing_stats;
+use super::{Check, CheckError, Report, linear_wave};
+use crate::case::{Case, WaveTheory};
+use crate::output::timeseries::GaugeRecord;
+use crate::waves::linear::PaddleKind;
+use std::f64::consts::TAU;
+
+/// The 3D height within this fraction of the 2D one (the issue's bar).
+pub const HEIGHT_TOLERANCE: f64 = 0.05;
+
+/// Gauges up to this many wavelengths from the piston are checked (the issue's "at 2 L").
+pub const CHECKED_WAVELENGTHS: f64 = 2.0;
+
+/// Whole waves a gauge's window must hold to be measured.
+pub const MIN_WAVES: f64 = 3.0;
+
+/// Says whether `case` is a 3D tank that this check applies to: a width, a linear piston, no
+/// absorber, no beach or bars (the 2D code has neither across the tank).
+pub fn applies(case: &Case) -> bool {
+    case.flume.width_m.is_some()
+        && case.absorber.is_none()
+        && case.flume.beach.is_none()
+        && case.flume.bars.is_empty()
+        && case
+            .wavemaker
+            .as_ref()
+            .is_some_and(|w| w.paddle == PaddleKind::Piston && w.theory == WaveTheory::Linear)
+}
+
+/// The 2D twin of a 3D case: the same file without its width and its planes z = const (the
+/// 3D tank starts at the piston's face; the 2D flume keeps its dry strip behind the paddle).
+pub fn twin_2d(case: &Case) -> Result<Case, CheckError> {
+    if !applies(case) {
+        return Err(CheckError::NotApplicable(
+            "the 2D check is for a 3D tank with a linear piston, no absorber, beach or bars".into(),
+        ));
+    }
+    let mut twin = case.clone();
+    twin.name = format!("{}_2d", case.name);
+    twin.flume.width_m = None;
+    twin.output.planes_z_m.clear();
+    twin.surf.stations_z_m.clear();
+    Ok(twin)
+}
+
+/// Each gauge's window `[start, end]` in s (see the module doc), or `None` when it would hold
+/// fewer than [`MIN_WAVES`] periods of a record ending at `end_s`.
+pub fn windows(
+    case: &Case,
+    gauges_x_m: &[f64],
+    end_s: f64,
+) -> Result<Vec<Option<[f64; 2]>>, CheckError> {
+    let (_, period, depth, k, x_paddle) = linear_wave(case)?;
+    let w = case
+        .wavemaker
+        .as_ref()
+        .expect("linear_wave found the wavemaker");
+    let omega = TAU / period;
+    let kd = k * depth;
+    let group_velocity = 0.5 * (omega / k) * (1.0 + 2.0 * kd / (2.0 * kd).sinh());
+    let x_wall = case.flume.length_m;
+    Ok(gauges_x_m
+        .iter()
+        .map(|&x| {
+            let start = (w.ramp_periods + 1.0) * period + (x - x_paddle) / group_velocity;
+            let end = ((2.0 * x_wall - x_paddle - x) / group_velocity).min(end_s);
+            (end - start >= MIN_WAVES * period).then_some([start, end])
+        })
+        .collect())
+}
+
+/// The 3D run's heights against the 2D twin's, gauge by gauge (module doc). `record_3d` and
+/// `record_2d` are the two runs' `gauges.csv`; the 3D run's largest volume drift is reported.
+pub fn against_2d(
+    case: &Case,
+    record_3d: &GaugeRecord,
+    record_2d: &GaugeRecord,
+    volume_drift_max_3d: f64,
+) -> Result<Report, CheckError> {
+    let (height, _, _, k, x_paddle) = linear_wave(case)?;
+    let wavelength = TAU / k;
+    let end = |r: &GaugeRecord| r.t_s.last().copied().unwrap_or(0.0);
+    let end_s = end(record_3d).min(end(record_2d));
+    let gauges_3d = record_3d.elevation_gauges();
+    let gauges_2d = record_2d.elevation_gauges();
+    let xs: Vec<f64> = gauges_3d.iter().map(|(x, _)| *x).collect();
+    let windows = windows(case, &xs, end_s)?;
+    let mut report = Report::new(
+        "3D narrow tank against the 2D code (linear piston)",
+        [0.0, end_s],
+    );
+    report.figure("linear wavelength L", wavelength, "m");
+    report.figure("paddle's height H", height, "m");
+    report.figure(
+        "3D run's largest volume drift",
+        100.0 * volume_drift_max_3d,
+        "%",
+    );
+    let mut first = f64::INFINITY;
+    for ((x, eta_3d), window) in gauges_3d.iter().zip(&windows) {
+        let reach = (x - x_paddle) / wavelength;
+        let Some(window) = window else {
+            if reach <= CHECKED_WAVELENGTHS + 0.05 {
+                return Err(CheckError::TooShort(format!(
+                    "the gauge at x = {x} m ({reach:.2} L) sees fewer than {MIN_WAVES} waves \
+                     between the ramp and the end wall's reflection in {end_s:.2} s"
+                )));
+            }
+            continue;
+        };
+        let Some((_, eta_2d)) = gauges_2d.iter().find(|(x2, _)| (x2 - x).abs() < 1e-9) else {
+            return Err(CheckError::NotApplicable(format!(
+                "the 2D run has no gauge at x = {x} m"
+            )));
+        };
+        let stats = |r: &GaugeRecord, eta: &[Option<f64>], run: &str| {
+            crossing_stats(&r.t_s, eta, *window).ok_or_else(|| {
+                CheckError::TooShort(format!("no whole wave at x = {x} m in the {run} run"))
+            })
+        };
+        let h3 = stats(record_3d, eta_3d, "3D")?;
+        let h2 = stats(record_2d, eta_2d, "2D")?;
+        first = first.min(window[0]);
+        let what = format!(
+            "3D wave height at x = {x:.3} m ({reach:.2} L) against 2D, t = {:.2}–{:.2} s",
+            window[0], window[1]
+        );
+        report.figure(
+            format!("2D wave height at x = {x:.3} m"),
+            h2.mean_height_m,
+            "m",
+        );
+        report.figure(
+            format!("3D waves at x = {x:.3} m (2D: {})", h2.waves),
+            h3.waves as f64,
+            "",
+        );
+        if reach <= CHECKED_WAVELENGTHS + 0.05 {
+            report.checks.push(Check::new(
+                what,
+                h3.mean_height_m,
+                h2.mean_height_m,
+                HEIGHT_TOLERANCE,
+                "m",
+            ));
+        } else {
+            report.figure(what, h3.mean_height_m, "m");
+        }
+    }
+    if report.checks.is_empty() {
+        return Err(CheckError::NotApplicable(format!(
+            "no elevation gauge within {CHECKED_WAVELENGTHS} wavelengths ({:.2} m) of the piston",
+            CHECKED_WAVELENGTHS * wavelength
+        )));
+    }
+    report.window_s = [first, end_s];
+    Ok(report)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    fn case(name: &str) -> Case {
+        let file = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("cases")
+            .join(name);
+        Case::load(&file, &[]).expect("the case loads")
+    }
+
+    /// A record of sinusoidal waves of height `h` (m) at each gauge, sampled every 0.02 s.
+    fn record(case: &Case, heights: &[f64], end_s: f64) -> GaugeRecord {
+        let w = case.wavemaker.as_ref().unwrap();
+        let omega = TAU / w.period_s;
+        let t: Vec<f64> = (0..=(end_s / 0.02).round() as usize)
+            .map(|i| i as f64 * 0.02)
+            .collect();
+        let xs = &case.output.gauges_x_m;
+        GaugeRecord {
+            names: xs.iter().map(|x| format!("eta_{x}")).collect(),
+            columns: xs
+                .iter()
+                .zip(heights)
+                .map(|(x, h)| {
+                    t.iter()
+                        .map(|t| Some(0.5 * h * (omega * t - 6.7 * x).sin()))
+                        .collect()
+                })
+                .collect(),
+            t_s: t,
+        }
+    }
+
+    #[test]
+    fn the_narrow_piston_tank_is_checked_against_its_2d_twin_and_the_bars_tank_is_not() {
+        let narrow = case("tank3d_piston.toml");
+        assert!(applies(&narrow));
+        let twin = twin_2d(&narrow).unwrap();
+        assert_eq!(twin.flume.width_m, None);
+        assert!(twin.output.planes_z_m.is_empty());
+        assert_eq!(twin.output.gauges_x_m, narrow.output.gauges_x_m);
+        assert!(!applies(&case("tank3d_bars.toml")));
+        assert!(!applies(&case("dam_break3d.toml")));
+        assert!(twin_2d(&case("tank3d_bars.toml")).is_err());
+    }
+
+    #[test]
+    fn each_gauge_is_read_between_the_ramp_and_the_end_walls_reflection() {
+        let narrow = case("tank3d_piston.toml");
+        let w = windows(&narrow, &[1.23, 2.16, 4.0], 8.5).unwrap();
+        // T = 0.8 s, d = 0.25 m: c_g = 0.7184 m/s; the piston at 0.3 m, the wall at 4.5 m.
+        let c_g = 0.7184;
+        let [a, b] = w[0].unwrap();
+        assert!((a - (3.0 * 0.8 + 0.93 / c_g)).abs() < 0.01, "start {a}");
+        assert_eq!(b, 8.5, "the record ends before the reflection at 1 L");
+        let [a, b] = w[1].unwrap();
+        assert!((a - (2.4 + 1.86 / c_g)).abs() < 0.01, "start {a}");
+        assert_eq!(b, 8.5, "the reflection reaches 2 L at 9.10 s");
+        assert!(
+            w[2].is_none(),
+            "4 m: the reflection comes before three whole waves"
+        );
+        println!("windows at 1 L and 2 L: {:?} {:?}", w[0], w[1]);
+    }
+
+    #[test]
+    fn a_3d_height_within_5_percent_of_2d_passes_and_one_7_percent_off_fails() {
+        let narrow = case("tank3d_piston.toml");
+        let r2 = record(&narrow, &[0.0345, 0.0327], 8.5);
+        let near = record(&narrow, &[0.0335, 0.0317], 8.5);
+        let report = against_2d(&narrow, &near, &r2, 0.01).unwrap();
+        assert_eq!(report.checks.len(), 2);
+        for c in &report.checks {
+            println!("{}: {:.5} against {:.5}", c.what, c.measured, c.target);
+            assert!(c.passed);
+        }
+        let off = record(&narrow, &[0.0345, 0.0304], 8.5);
+        let report = against_2d(&narrow, &off, &r2, 0.01).unwrap();
+        assert!(report.checks[0].passed && !report.checks[1].passed);
+        assert!(
+            (report.checks[1].error() + 0.0703).abs() < 0.005,
+            "{}",
+            report.checks[1].error()
+        );
+        // Too short a record: the 2 L gauge sees no three waves before the end.
+        let short = record(&narrow, &[0.0345, 0.0327], 6.0);
+        assert!(matches!(
+            against_2d(&narrow, &short, &short, 0.0),
+            Err(CheckError::TooShort(_))
+        ));
+    }
+}
