@@ -73,8 +73,8 @@ enum Command {
     /// into an absorbing end, a standing wave at a wall, or a cnoidal piston; a dam break
     /// against Martin & Moyce (1952); a Ting & Kirby surf case against its breaking point,
     /// type, undertow balance and volume; a narrow 3D tank with a linear piston against its 2D
-    /// twin (run too, into DIR/2d), wave height by wave height. Prints each figure against its bar, writes
-    /// validation.json beside the run, exits non-zero if one fails.
+    /// twin (run too, into DIR/2d), wave height by wave height. Prints each figure against its
+    /// bar, writes validation.json beside the run, exits non-zero if one fails.
     Validate {
         /// The case file, e.g. cases/flap_deep_water.toml.
         case: PathBuf,

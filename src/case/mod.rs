@@ -346,6 +346,19 @@ mod tests {
     }
 
     #[test]
+    fn the_fic_term_defaults_to_inertial_in_2d_and_none_in_3d() {
+        use super::solver::TauFormula;
+        let c = parse(MINIMAL, &[]).unwrap();
+        assert_eq!(c.solver.tau, None);
+        assert_eq!(c.solver.tau_formula(false), TauFormula::Inertial);
+        assert_eq!(c.solver.tau_formula(true), TauFormula::None);
+        // A case's own setting holds in either.
+        let c = parse(MINIMAL, &["solver.tau=kratos"]).unwrap();
+        assert_eq!(c.solver.tau_formula(false), TauFormula::Kratos);
+        assert_eq!(c.solver.tau_formula(true), TauFormula::Kratos);
+    }
+
+    #[test]
     fn unknown_field_is_named() {
         let e = parse(&format!("{MINIMAL}[solver]\nalpah = 1.3\n"), &[]).unwrap_err();
         let msg = e.to_string();

@@ -2,8 +2,7 @@
 //! time and at every output interval write a row of `timeseries.csv` and a frame of `run.rrd`
 //! (the particles as 3D points coloured by u1, the free surface as a mesh, the wetted wall
 //! nodes); `summary.json` (and with a wavemaker `surface_u1.csv`) at the end, whatever the end
-//! was. Numerical trouble ends the run with
-//! a status; what was recorded stays readable.
+//! was. Numerical trouble ends the run with a status; what was recorded stays readable.
 
 use super::rrd3d::Recorder3;
 use super::run::{Progress, RunError, RunOptions, io_err};

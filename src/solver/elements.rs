@@ -44,7 +44,10 @@ impl Solver {
         let viscosity_and_tau = |h_e: f64, s_mag: f64, speed: f64| {
             let cs = p.settings.smagorinsky_cs;
             let mu_e = fem::smagorinsky_viscosity(p.viscosity_pa_s, rho, cs, h_e, s_mag);
-            (mu_e, fem::tau(p.settings.tau, rho, mu_e, h_e, dt, speed))
+            (
+                mu_e,
+                fem::tau(p.settings.tau_formula(false), rho, mu_e, h_e, dt, speed),
+            )
         };
         let mut cells = std::mem::take(&mut self.cells);
         cells.clear_geometry();

@@ -331,7 +331,7 @@ pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
         bed: (!bed.is_flat()).then_some(bed),
         slip: f.walls == WallCondition::Slip,
         p,
-        tau: case.solver.tau,
+        tau: case.solver.tau_formula(true),
         gamma: case.solver.gamma,
         pi,
         h_m: h,

@@ -49,8 +49,8 @@ pub fn reflection(case: &Case, record: &GaugeRecord) -> Result<Reflection, Strin
     let k = crate::waves::linear::wavenumber(w.period_s, depth, g).map_err(|e| e.to_string())?;
     let wavelength = TAU / k;
     let omega = TAU / w.period_s;
-    let kd = k * depth;
-    let group_velocity = 0.5 * (omega / k) * (1.0 + 2.0 * kd / (2.0 * kd).sinh());
+    let group_velocity =
+        crate::waves::linear::group_velocity(w.period_s, depth, g).map_err(|e| e.to_string())?;
     // Gauges in the paddle's depth, clear of the paddle and of the beach's toe by a depth
     // (the evanescent modes of either).
     let paddle_depth = |x: f64| {

@@ -61,14 +61,13 @@ pub fn windows(
     gauges_x_m: &[f64],
     end_s: f64,
 ) -> Result<Vec<Option<[f64; 2]>>, CheckError> {
-    let (_, period, depth, k, x_paddle) = linear_wave(case)?;
+    let (_, period, depth, _, x_paddle) = linear_wave(case)?;
     let w = case
         .wavemaker
         .as_ref()
         .expect("linear_wave found the wavemaker");
-    let omega = TAU / period;
-    let kd = k * depth;
-    let group_velocity = 0.5 * (omega / k) * (1.0 + 2.0 * kd / (2.0 * kd).sinh());
+    let group_velocity =
+        crate::waves::linear::group_velocity(period, depth, case.fluid.gravity_m_s2)?;
     let x_wall = case.flume.length_m;
     Ok(gauges_x_m
         .iter()

@@ -89,6 +89,14 @@ pub fn celerity(period_s: f64, depth_m: f64, gravity_m_s2: f64) -> Result<f64> {
     Ok(wavelength(period_s, depth_m, gravity_m_s2)? / period_s)
 }
 
+/// Linear group velocity `c_g = ½ (ω/k) (1 + 2kd / sinh 2kd)` (m/s): the speed at which a
+/// wave train's front and its energy travel.
+pub fn group_velocity(period_s: f64, depth_m: f64, gravity_m_s2: f64) -> Result<f64> {
+    let k = wavenumber(period_s, depth_m, gravity_m_s2)?;
+    let kd2 = 2.0 * k * depth_m;
+    Ok(0.5 * (TAU / period_s / k) * (1.0 + kd2 / kd2.sinh()))
+}
+
 /// Deep-water wavelength `L₀ = g T² / (2π)` (m).
 pub fn deep_water_wavelength_m(period_s: f64, gravity_m_s2: f64) -> f64 {
     gravity_m_s2 * period_s * period_s / TAU
@@ -386,6 +394,19 @@ mod tests {
         assert!((1.27..=1.295).contains(&l_091));
         assert!((l_095 / 1.408 - 1.0).abs() < 5e-3);
         assert!((celerity(0.91, 0.7, G).unwrap() - l_091 / 0.91).abs() < 1e-14);
+    }
+
+    #[test]
+    fn group_velocity_tends_to_its_shallow_and_deep_limits() {
+        // Shallow water: c_g → √(g d); deep water: c_g → c / 2 = g T / (4π).
+        let shallow = group_velocity(100.0, 0.1, G).unwrap() / (G * 0.1).sqrt();
+        let deep = group_velocity(1.0, 50.0, G).unwrap() / (G / (2.0 * TAU));
+        // The narrow piston tank's wave (d = 0.25 m, T = 0.8 s; kd = 1.69).
+        let tank = group_velocity(0.8, 0.25, G).unwrap();
+        println!("c_g/√(gd) = {shallow:.6}, c_g/(gT/4π) = {deep:.9}, tank c_g = {tank:.4} m/s");
+        assert!((shallow - 1.0).abs() < 1e-4);
+        assert!((deep - 1.0).abs() < 1e-9);
+        assert!((tank - 0.7184).abs() < 5e-5);
     }
 
     #[test]
