@@ -66,12 +66,14 @@ impl SurfaceU1Map {
         )
     }
 
-    /// Over the bars against the channel (see [`BarsU1`]); `None` without bars or without a
-    /// counted cell on either side.
+    /// Over the raised bars against the channel (see [`BarsU1`]); `None` without a raised bar
+    /// (a sunken one has no crest to be over) or without a counted cell on either side.
     pub fn over_bars(&self, bars: &[Bar]) -> Option<BarsU1> {
-        if bars.is_empty() {
+        let raised: Vec<&Bar> = bars.iter().filter(|b| b.height_m > 0.0).collect();
+        if raised.is_empty() {
             return None;
         }
+        let bars = raised;
         let lo = bars.iter().map(|b| b.x_m[1]).fold(f64::INFINITY, f64::min);
         let hi = bars
             .iter()
@@ -83,7 +85,7 @@ impl SurfaceU1Map {
             if x < lo || x > hi {
                 continue;
             }
-            let inside = |b: &Bar, i: usize, j: usize| {
+            let inside = |b: &&Bar, i: usize, j: usize| {
                 x >= b.x_m[i] && x <= b.x_m[j] && z >= b.z_m[i] && z <= b.z_m[j]
             };
             if bars.iter().any(|b| inside(b, 1, 2)) {
@@ -175,5 +177,11 @@ mod tests {
         assert!((b.channel_max_m_s - 0.35).abs() < 1e-12);
         assert!(b.fastest_over_the_bars());
         assert_eq!(map.over_bars(&[]), None);
+        // Sunken bars have no crests: nothing to compare.
+        let sunken = bars.map(|b| Bar {
+            height_m: -0.1,
+            ..b
+        });
+        assert_eq!(map.over_bars(&sunken), None);
     }
 }

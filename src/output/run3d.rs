@@ -8,7 +8,7 @@ use super::rrd3d::Recorder3;
 use super::run::{Progress, RunError, RunOptions, io_err};
 use super::summary::{RunFigures, median};
 use super::timeseries::{GaugeWriter, gauge_columns};
-use crate::case::{Bar, Case};
+use crate::case::Case;
 use crate::diagnostics::surface_u1::{BarsU1, SurfaceU1Map};
 use crate::diagnostics::undertow::{Stations, UndertowSummary};
 use crate::geometry::bed3d::Bed3;
@@ -287,14 +287,7 @@ pub fn run3d(case: &Case, opts: &RunOptions) -> Result<Run3Outcome, RunError> {
     if let Some(map) = surface_u1.as_ref() {
         let path = opts.out_dir.join("surface_u1.csv");
         write_surface_u1(&path, map).map_err(io_err(&path))?;
-        let raised: Vec<Bar> = case
-            .flume
-            .bars
-            .iter()
-            .filter(|b| b.height_m > 0.0)
-            .cloned()
-            .collect();
-        summary.surface_u1_over_bars = map.over_bars(&raised);
+        summary.surface_u1_over_bars = map.over_bars(&case.flume.bars);
     }
     let summary_path = opts.out_dir.join("summary.json");
     let text = serde_json::to_string_pretty(&summary).expect("a summary serialises");
