@@ -36,6 +36,90 @@ pub fn harmonic_fit(
     Some((c[0], c[1].hypot(c[2]), c[2].atan2(c[1])))
 }
 
+/// The first harmonic along a line of gauges split into the wave travelling towards +x and
+/// the one coming back: the least-squares fit of Mansard & Funke (1980) over any number of
+/// gauges, with the wavenumber fitted as well.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ArrayFit {
+    /// Height (twice the amplitude) of the wave travelling towards +x, m.
+    pub incident_height_m: f64,
+    /// Amplitude of the wave travelling towards −x over the incident one's.
+    pub reflection: f64,
+    /// The wavenumber that fits best, rad/m.
+    pub k_rad_m: f64,
+    /// What the two waves leave of the gauges' first harmonics, relative (rms over rms).
+    pub misfit: f64,
+}
+
+/// Gauges an [`ArrayFit`] needs at least.
+pub const ARRAY_MIN_GAUGES: usize = 4;
+
+/// Fits η̂(x) = a₊ e^{−ikx} + a₋ e^{ikx} to the complex first harmonics η̂ of `gauges`
+/// (`(x, record)`, each read by [`harmonic_fit`] over `window_s`), for k over ±20 % of
+/// `k_guess_rad_m` in steps of 0.1 %, and keeps the k of the least misfit. `None` with fewer
+/// than [`ARRAY_MIN_GAUGES`] gauges that hold a fit, or gauges no two waves can be told apart
+/// on (all within a hair of each other, or half a wavelength apart).
+pub fn incident_wave(
+    t_s: &[f64],
+    gauges: &[(f64, &[Option<f64>])],
+    omega_rad_s: f64,
+    k_guess_rad_m: f64,
+    window_s: [f64; 2],
+) -> Option<ArrayFit> {
+    use nalgebra::Complex;
+    let points: Vec<(f64, Complex<f64>)> = gauges
+        .iter()
+        .filter_map(|(x, eta)| {
+            let (_, a, phase) = harmonic_fit(t_s, eta, omega_rad_s, window_s)?;
+            Some((*x, Complex::from_polar(a, -phase)))
+        })
+        .collect();
+    if points.len() < ARRAY_MIN_GAUGES {
+        return None;
+    }
+    let norm: f64 = points.iter().map(|(_, c)| c.norm_sqr()).sum::<f64>().sqrt();
+    let fit = |k: f64| -> Option<(Complex<f64>, Complex<f64>, f64)> {
+        // Normal equations of the two unknowns: [[n, s], [s̄, n]] (a₊, a₋) = (Σ e^{ikx} η̂,
+        // Σ e^{−ikx} η̂), s = Σ e^{2ikx}.
+        let n = points.len() as f64;
+        let (mut s, mut b0, mut b1) = (
+            Complex::new(0.0, 0.0),
+            Complex::default(),
+            Complex::default(),
+        );
+        for (x, c) in &points {
+            let e = Complex::from_polar(1.0, k * x);
+            s += e * e;
+            b0 += e * c;
+            b1 += e.conj() * c;
+        }
+        let det = n * n - s.norm_sqr();
+        if det <= 1e-9 * n * n {
+            return None;
+        }
+        let plus = (b0 * n - s * b1) / det;
+        let minus = (b1 * n - s.conj() * b0) / det;
+        let residual: f64 = points
+            .iter()
+            .map(|(x, c)| {
+                let e = Complex::from_polar(1.0, k * x);
+                (plus * e.conj() + minus * e - c).norm_sqr()
+            })
+            .sum();
+        Some((plus, minus, residual.sqrt() / norm))
+    };
+    let (k, (plus, minus, misfit)) = (0..=400)
+        .map(|i| k_guess_rad_m * (0.8 + 0.001 * i as f64))
+        .filter_map(|k| fit(k).map(|f| (k, f)))
+        .min_by(|a, b| a.1.2.total_cmp(&b.1.2))?;
+    Some(ArrayFit {
+        incident_height_m: 2.0 * plus.norm(),
+        reflection: minus.norm() / plus.norm(),
+        k_rad_m: k,
+        misfit,
+    })
+}
+
 /// Zero-crossing heights and the mean period over `window` (at most `last_waves` waves).
 pub(super) fn crossing_stats(
     t_s: &[f64],
@@ -143,5 +227,42 @@ mod tests {
             .collect();
         let (m, a, p) = harmonic_fit(&t, &y, 2.0, [0.0, 10.0 * PI]).unwrap();
         assert!((m - 0.2).abs() < 1e-4 && (a - 0.03).abs() < 1e-4 && (p - 0.7).abs() < 1e-3);
+    }
+
+    #[test]
+    fn an_array_of_gauges_splits_the_incident_wave_from_the_reflected_one() {
+        // 30 mm travelling towards +x and 3 mm back (k = 6.8 rad/m, T = 0.8 s), over a mean
+        // level sinking 5 mm and a bound second harmonic of 3 mm: gauges 0.1 m apart over
+        // one wavelength, sampled every 0.02 s for 4 periods.
+        let (omega, k) = (TAU / 0.8, 6.8);
+        let t: Vec<f64> = (0..=160).map(|i| 5.0 + i as f64 * 0.02).collect();
+        let xs: Vec<f64> = (0..10).map(|i| 1.7 + 0.1 * i as f64).collect();
+        let records: Vec<Vec<Option<f64>>> = xs
+            .iter()
+            .map(|x| {
+                t.iter()
+                    .map(|t| {
+                        let incident = 0.015 * (omega * t - k * x).cos();
+                        let reflected = 0.0015 * (omega * t + k * x + 0.4).cos();
+                        let bound = 0.0015 * (2.0 * (omega * t - k * x)).cos();
+                        Some(incident + reflected + bound - 0.005 * (t - 5.0) / 3.2)
+                    })
+                    .collect()
+            })
+            .collect();
+        let gauges: Vec<(f64, &[Option<f64>])> = xs
+            .iter()
+            .zip(&records)
+            .map(|(x, r)| (*x, r.as_slice()))
+            .collect();
+        let f = incident_wave(&t, &gauges, omega, 6.76, [5.0, 8.2]).unwrap();
+        println!("{f:?}");
+        assert!((f.incident_height_m - 0.030).abs() < 0.0003, "{f:?}");
+        assert!((f.reflection - 0.1).abs() < 0.01, "{f:?}");
+        assert!((f.k_rad_m - k).abs() < 0.02 * k, "{f:?}");
+        // Too few gauges, or all in one place: no fit.
+        assert!(incident_wave(&t, &gauges[..3], omega, 6.76, [5.0, 8.2]).is_none());
+        let same = vec![gauges[0]; 5];
+        assert!(incident_wave(&t, &same, omega, 6.76, [5.0, 8.2]).is_none());
     }
 }
