@@ -33,9 +33,10 @@ pub const CHECKED_WAVELENGTHS: f64 = 2.0;
 /// Whole waves a gauge's window must hold to be measured.
 pub const MIN_WAVES: f64 = 3.0;
 
-/// Where gauge arrays are read (wavelengths from the piston), and their half-length
-/// (wavelengths).
+/// Where gauge arrays are read, in wavelengths from the piston.
 pub const ARRAY_STATIONS_L: [f64; 2] = [1.0, 2.0];
+
+/// How far an array's gauges may stand from its station, in wavelengths.
 pub const ARRAY_HALF_LENGTH_L: f64 = 0.5;
 
 /// Says whether `case` is a 3D tank that this check applies to: a width, a linear piston, no

@@ -56,9 +56,10 @@ pub const ARRAY_MIN_GAUGES: usize = 4;
 
 /// Fits η̂(x) = a₊ e^{−ikx} + a₋ e^{ikx} to the complex first harmonics η̂ of `gauges`
 /// (`(x, record)`, each read by [`harmonic_fit`] over `window_s`), for k over ±20 % of
-/// `k_guess_rad_m` in steps of 0.1 %, and keeps the k of the least misfit. `None` with fewer
-/// than [`ARRAY_MIN_GAUGES`] gauges that hold a fit, or gauges no two waves can be told apart
-/// on (all within a hair of each other, or half a wavelength apart).
+/// `k_guess_rad_m` in steps of 0.1 % of it, and keeps the k of the least misfit (a k at which
+/// the two waves look alike on the gauges, as where all stand whole half-wavelengths apart, is
+/// skipped). `None` with fewer than [`ARRAY_MIN_GAUGES`] gauges that hold a fit, or when no k
+/// tells the two waves apart (the gauges all at one place).
 pub fn incident_wave(
     t_s: &[f64],
     gauges: &[(f64, &[Option<f64>])],
