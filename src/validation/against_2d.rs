@@ -101,7 +101,7 @@ pub fn against_2d(
     record_2d: &GaugeRecord,
     volume_drift_max_3d: f64,
 ) -> Result<Report, CheckError> {
-    let (height, _, _, k, x_paddle) = linear_wave(case)?;
+    let (height, period, _, k, x_paddle) = linear_wave(case)?;
     let wavelength = TAU / k;
     let end = |r: &GaugeRecord| r.t_s.last().copied().unwrap_or(0.0);
     let end_s = end(record_3d).min(end(record_2d));
@@ -173,7 +173,6 @@ pub fn against_2d(
             report.figure(what, h3.mean_height_m, "m");
         }
     }
-    let (_, period, ..) = linear_wave(case)?;
     let arrays = Arrays {
         x_paddle,
         wavelength,
@@ -252,15 +251,17 @@ impl Arrays<'_> {
              t = {start:.2}–{end:.2} s",
             members.len()
         );
-        report.figure(format!("{label}: height, 2D"), a2.incident_height_m, "m");
-        report.figure(format!("{label}: height, 3D"), a3.incident_height_m, "m");
+        let (h2, h3) = (2.0 * a2.going.norm(), 2.0 * a3.going.norm());
+        report.figure(format!("{label}: height, 2D"), h2, "m");
+        report.figure(format!("{label}: height, 3D"), h3, "m");
         report.figure(
             format!("{label}: 3D against 2D"),
-            100.0 * (a3.incident_height_m / a2.incident_height_m - 1.0),
+            100.0 * (h3 / h2 - 1.0),
             "%",
         );
         for (run, a) in [("2D", a2), ("3D", a3)] {
-            report.figure(format!("{label}: reflection, {run}"), a.reflection, "");
+            let reflection = a.back.norm() / a.going.norm();
+            report.figure(format!("{label}: reflection, {run}"), reflection, "");
             report.figure(format!("{label}: wavenumber, {run}"), a.k_rad_m, "rad/m");
             report.figure(format!("{label}: misfit, {run}"), a.misfit, "");
         }

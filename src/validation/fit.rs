@@ -5,6 +5,7 @@
 use super::CheckError;
 use crate::diagnostics::{WaveStats, wave_stats};
 use crate::output::timeseries::GaugeRecord;
+use nalgebra::Complex;
 use std::f64::consts::TAU;
 
 /// Least-squares fit of `c + a cos ωt + b sin ωt` to the wet samples with t in `window`.
@@ -36,89 +37,120 @@ pub fn harmonic_fit(
     Some((c[0], c[1].hypot(c[2]), c[2].atan2(c[1])))
 }
 
-/// The first harmonic along a line of gauges split into the wave travelling towards +x and
-/// the one coming back: the least-squares fit of Mansard & Funke (1980) over any number of
-/// gauges, with the wavenumber fitted as well.
+/// The first harmonic along a line of gauges as two waves, one travelling towards +x and one
+/// coming back, by the least-squares separation of Mansard & Funke (1980) with the
+/// wavenumber free: Z(x) = P e^{ik(x − x₀)} + Q e^{−ik(x − x₀)}, Z the complex first harmonic
+/// of a gauge with its signal ≈ Re{Z e^{−iωt}}.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ArrayFit {
-    /// Height (twice the amplitude) of the wave travelling towards +x, m.
-    pub incident_height_m: f64,
-    /// Amplitude of the wave travelling towards −x over the incident one's.
-    pub reflection: f64,
+pub struct WaveSplit {
+    /// P, the wave travelling towards +x, m.
+    pub going: Complex<f64>,
+    /// Q, the wave travelling towards −x, m.
+    pub back: Complex<f64>,
     /// The wavenumber that fits best, rad/m.
     pub k_rad_m: f64,
-    /// What the two waves leave of the gauges' first harmonics, relative (rms over rms).
+    /// What the two waves leave of the gauges' Z, relative (rms over rms).
     pub misfit: f64,
 }
 
-/// Gauges an [`ArrayFit`] needs at least.
+/// Gauges a [`WaveSplit`] needs at least.
 pub const ARRAY_MIN_GAUGES: usize = 4;
 
-/// Fits η̂(x) = a₊ e^{−ikx} + a₋ e^{ikx} to the complex first harmonics η̂ of `gauges`
-/// (`(x, record)`, each read by [`harmonic_fit`] over `window_s`), for k over ±20 % of
-/// `k_guess_rad_m` in steps of 0.1 % of it, and keeps the k of the least misfit (a k at which
-/// the two waves look alike on the gauges, as where all stand whole half-wavelengths apart, is
-/// skipped). `None` with fewer than [`ARRAY_MIN_GAUGES`] gauges that hold a fit, or when no k
-/// tells the two waves apart (the gauges all at one place).
+/// Fits [`WaveSplit`] to `points` (x in m, Z) about `x0_m`: k scanned over `k_range_rad_m` in
+/// 400 steps, then refined by golden section around the best (a k at which the two waves look
+/// alike on the gauges, as where all stand whole half-wavelengths apart, is skipped). `None`
+/// with fewer than [`ARRAY_MIN_GAUGES`] points, or when no k tells the two waves apart (the
+/// gauges all at one place).
+pub fn split_waves(
+    points: &[(f64, Complex<f64>)],
+    x0_m: f64,
+    k_range_rad_m: [f64; 2],
+) -> Option<WaveSplit> {
+    if points.len() < ARRAY_MIN_GAUGES {
+        return None;
+    }
+    // For a given k: P, Q and the squared residual. Normal equations of the two unknowns:
+    // [[n, s̄], [s, n]] (P, Q) = (Σ e^{−ikξ} Z, Σ e^{ikξ} Z), ξ = x − x₀, s = Σ e^{2ikξ}.
+    let fit = |k: f64| -> Option<(Complex<f64>, Complex<f64>, f64)> {
+        let n = points.len() as f64;
+        let [mut s, mut b0, mut b1] = [Complex::default(); 3];
+        for (x, z) in points {
+            let e = Complex::from_polar(1.0, k * (x - x0_m));
+            s += e * e;
+            b0 += e.conj() * z;
+            b1 += e * z;
+        }
+        let det = n * n - s.norm_sqr();
+        if det <= 1e-9 * n * n {
+            return None;
+        }
+        let going = (b0 * n - s.conj() * b1) / det;
+        let back = (b1 * n - s * b0) / det;
+        let residual = points
+            .iter()
+            .map(|(x, z)| {
+                let e = Complex::from_polar(1.0, k * (x - x0_m));
+                (going * e + back * e.conj() - z).norm_sqr()
+            })
+            .sum();
+        Some((going, back, residual))
+    };
+    let residual = |k: f64| fit(k).map_or(f64::INFINITY, |f| f.2);
+    let [lo, hi] = k_range_rad_m;
+    let steps = 400;
+    let step = (hi - lo) / steps as f64;
+    let (best, _) = (0..=steps)
+        .map(|i| lo + step * i as f64)
+        .filter_map(|k| fit(k).map(|f| (k, f.2)))
+        .min_by(|a, b| a.1.total_cmp(&b.1))?;
+    let (mut lo, mut hi) = (best - step, best + step);
+    let ratio = 0.5 * (5f64.sqrt() - 1.0);
+    for _ in 0..60 {
+        let a = hi - ratio * (hi - lo);
+        let b = lo + ratio * (hi - lo);
+        if residual(a) < residual(b) {
+            hi = b;
+        } else {
+            lo = a;
+        }
+    }
+    let k = 0.5 * (lo + hi);
+    let (going, back, residual) = fit(k)?;
+    let norm: f64 = points.iter().map(|(_, z)| z.norm_sqr()).sum();
+    Some(WaveSplit {
+        going,
+        back,
+        k_rad_m: k,
+        misfit: (residual / norm).sqrt(),
+    })
+}
+
+/// The complex first harmonic Z of `eta` over `window_s` (signal ≈ Re{Z e^{−iωt}}), from
+/// [`harmonic_fit`].
+pub fn first_harmonic(
+    t_s: &[f64],
+    eta: &[Option<f64>],
+    omega_rad_s: f64,
+    window_s: [f64; 2],
+) -> Option<Complex<f64>> {
+    let (_, amplitude, phase) = harmonic_fit(t_s, eta, omega_rad_s, window_s)?;
+    Some(Complex::from_polar(amplitude, phase))
+}
+
+/// [`split_waves`] of `gauges` (`(x, record)`, each read by [`first_harmonic`] over
+/// `window_s`), k over ±20 % of `k_guess_rad_m`; the gauges without a fit are left out.
 pub fn incident_wave(
     t_s: &[f64],
     gauges: &[(f64, &[Option<f64>])],
     omega_rad_s: f64,
     k_guess_rad_m: f64,
     window_s: [f64; 2],
-) -> Option<ArrayFit> {
-    use nalgebra::Complex;
+) -> Option<WaveSplit> {
     let points: Vec<(f64, Complex<f64>)> = gauges
         .iter()
-        .filter_map(|(x, eta)| {
-            let (_, a, phase) = harmonic_fit(t_s, eta, omega_rad_s, window_s)?;
-            Some((*x, Complex::from_polar(a, -phase)))
-        })
+        .filter_map(|(x, eta)| Some((*x, first_harmonic(t_s, eta, omega_rad_s, window_s)?)))
         .collect();
-    if points.len() < ARRAY_MIN_GAUGES {
-        return None;
-    }
-    let norm: f64 = points.iter().map(|(_, c)| c.norm_sqr()).sum::<f64>().sqrt();
-    let fit = |k: f64| -> Option<(Complex<f64>, Complex<f64>, f64)> {
-        // Normal equations of the two unknowns: [[n, s], [s̄, n]] (a₊, a₋) = (Σ e^{ikx} η̂,
-        // Σ e^{−ikx} η̂), s = Σ e^{2ikx}.
-        let n = points.len() as f64;
-        let (mut s, mut b0, mut b1) = (
-            Complex::new(0.0, 0.0),
-            Complex::default(),
-            Complex::default(),
-        );
-        for (x, c) in &points {
-            let e = Complex::from_polar(1.0, k * x);
-            s += e * e;
-            b0 += e * c;
-            b1 += e.conj() * c;
-        }
-        let det = n * n - s.norm_sqr();
-        if det <= 1e-9 * n * n {
-            return None;
-        }
-        let plus = (b0 * n - s * b1) / det;
-        let minus = (b1 * n - s.conj() * b0) / det;
-        let residual: f64 = points
-            .iter()
-            .map(|(x, c)| {
-                let e = Complex::from_polar(1.0, k * x);
-                (plus * e.conj() + minus * e - c).norm_sqr()
-            })
-            .sum();
-        Some((plus, minus, residual.sqrt() / norm))
-    };
-    let (k, (plus, minus, misfit)) = (0..=400)
-        .map(|i| k_guess_rad_m * (0.8 + 0.001 * i as f64))
-        .filter_map(|k| fit(k).map(|f| (k, f)))
-        .min_by(|a, b| a.1.2.total_cmp(&b.1.2))?;
-    Some(ArrayFit {
-        incident_height_m: 2.0 * plus.norm(),
-        reflection: minus.norm() / plus.norm(),
-        k_rad_m: k,
-        misfit,
-    })
+    split_waves(&points, 0.0, [0.8 * k_guess_rad_m, 1.2 * k_guess_rad_m])
 }
 
 /// Zero-crossing heights and the mean period over `window` (at most `last_waves` waves).
@@ -258,8 +290,8 @@ mod tests {
             .collect();
         let f = incident_wave(&t, &gauges, omega, 6.76, [5.0, 8.2]).unwrap();
         println!("{f:?}");
-        assert!((f.incident_height_m - 0.030).abs() < 0.0003, "{f:?}");
-        assert!((f.reflection - 0.1).abs() < 0.01, "{f:?}");
+        assert!((2.0 * f.going.norm() - 0.030).abs() < 0.0003, "{f:?}");
+        assert!((f.back.norm() / f.going.norm() - 0.1).abs() < 0.01, "{f:?}");
         assert!((f.k_rad_m - k).abs() < 0.02 * k, "{f:?}");
         // Too few gauges, or all in one place: no fit.
         assert!(incident_wave(&t, &gauges[..3], omega, 6.76, [5.0, 8.2]).is_none());

@@ -1,6 +1,6 @@
 //! A standing wave in front of a vertical end wall (thesis §3.2.1).
 
-use super::fit::{harmonic_fit, last_periods};
+use super::fit::{ARRAY_MIN_GAUGES, first_harmonic, last_periods, split_waves};
 use super::{Check, CheckError, Report, linear_wave};
 use crate::case::Case;
 use crate::output::timeseries::GaugeRecord;
@@ -27,77 +27,31 @@ pub fn standing(case: &Case, record: &GaugeRecord) -> Result<Report, CheckError>
     let window = last_periods(record, period, 3.0)?;
     let mut report = Report::new("standing wave at a vertical wall (linear theory)", window);
     report.figure("linear wavelength L", wavelength, "m");
-    // (x, Re Z, Im Z) with the signal ≈ Re{Z e^{−iωt}}.
+    // (x, Z) with the signal ≈ Re{Z e^{−iωt}}.
     let mut points = Vec::new();
     for (x, eta) in record.elevation_gauges() {
-        let (_, a, phase) = harmonic_fit(&record.t_s, eta, omega, window)
+        let z = first_harmonic(&record.t_s, eta, omega, window)
             .ok_or_else(|| CheckError::TooShort(format!("gauge at x = {x} m")))?;
         report.figure(
             format!("first-harmonic height at x = {x:.3} m"),
-            2.0 * a,
+            2.0 * z.norm(),
             "m",
         );
-        points.push((x, a * phase.cos(), a * phase.sin()));
+        points.push((x, z));
     }
-    if points.len() < 4 {
-        return Err(CheckError::NotApplicable(
-            "need at least four elevation gauges".into(),
-        ));
+    if points.len() < ARRAY_MIN_GAUGES {
+        return Err(CheckError::NotApplicable(format!(
+            "need at least {ARRAY_MIN_GAUGES} elevation gauges"
+        )));
     }
-    // For a given k': the best P, Q ([Re P, Im P, Re Q, Im Q]) and the squared residual.
-    let fit = |kk: f64| -> Option<(f64, nalgebra::Vector4<f64>)> {
-        let mut m = nalgebra::Matrix4::<f64>::zeros();
-        let mut r = nalgebra::Vector4::<f64>::zeros();
-        let rows = |x: f64| {
-            let (sn, cs) = (kk * (x - x_wall)).sin_cos();
-            (
-                nalgebra::Vector4::new(cs, -sn, cs, sn),
-                nalgebra::Vector4::new(sn, cs, -sn, cs),
-            )
-        };
-        for &(x, zr, zi) in &points {
-            let (re, im) = rows(x);
-            m += re * re.transpose() + im * im.transpose();
-            r += re * zr + im * zi;
-        }
-        let c = m.lu().solve(&r)?;
-        let res = points
-            .iter()
-            .map(|&(x, zr, zi)| {
-                let (re, im) = rows(x);
-                (re.dot(&c) - zr).powi(2) + (im.dot(&c) - zi).powi(2)
-            })
-            .sum();
-        Some((res, c))
-    };
-    // Scan k' over ±40 % of the linear k, then refine by golden section.
-    let (mut lo, mut hi) = (0.6 * k, 1.4 * k);
-    let n = 400;
-    let best = (0..=n)
-        .map(|i| lo + (hi - lo) * i as f64 / n as f64)
-        .filter_map(|kk| fit(kk).map(|(r, _)| (kk, r)))
-        .min_by(|a, b| a.1.total_cmp(&b.1))
+    // k' over ±40 % of the linear k.
+    let split = split_waves(&points, x_wall, [0.6 * k, 1.4 * k])
         .ok_or_else(|| CheckError::TooShort("the fit failed".into()))?;
-    let step = (hi - lo) / n as f64;
-    (lo, hi) = (best.0 - step, best.0 + step);
-    let ratio = 0.5 * (5f64.sqrt() - 1.0);
-    for _ in 0..60 {
-        let a = hi - ratio * (hi - lo);
-        let b = lo + ratio * (hi - lo);
-        let fa = fit(a).map_or(f64::INFINITY, |f| f.0);
-        let fb = fit(b).map_or(f64::INFINITY, |f| f.0);
-        if fa < fb {
-            hi = b;
-        } else {
-            lo = a;
-        }
-    }
-    let k_fit = 0.5 * (lo + hi);
-    let (residual, c) = fit(k_fit).ok_or_else(|| CheckError::TooShort("the fit failed".into()))?;
-    let incident = c[0].hypot(c[1]);
-    let reflected = c[2].hypot(c[3]);
+    let k_fit = split.k_rad_m;
+    let incident = split.going.norm();
+    let reflected = split.back.norm();
     // |Z|² = |P|² + |Q|² + 2 Re(P Q̄ e^{2ik'(x − x_w)}): antinodes where 2k'(x_w − x) = arg(P Q̄).
-    let arg = (c[1] * c[2] - c[0] * c[3]).atan2(c[0] * c[2] + c[1] * c[3]);
+    let arg = (split.going * split.back.conj()).arg();
     let mut distance = arg.rem_euclid(TAU) / (2.0 * k_fit);
     if distance > PI / (2.0 * k_fit) {
         distance -= PI / k_fit;
@@ -109,10 +63,10 @@ pub fn standing(case: &Case, record: &GaugeRecord) -> Result<Report, CheckError>
         0.10,
         "m",
     ));
-    if let Some(&(x, zr, zi)) = points.iter().max_by(|a, b| a.0.total_cmp(&b.0)) {
+    if let Some(&(x, z)) = points.iter().max_by(|a, b| a.0.total_cmp(&b.0)) {
         report.checks.push(Check::new(
             format!("first-harmonic height at the gauge nearest the wall, x = {x:.3} m"),
-            2.0 * zr.hypot(zi),
+            2.0 * z.norm(),
             2.0 * height,
             0.10,
             "m",
@@ -138,8 +92,7 @@ pub fn standing(case: &Case, record: &GaugeRecord) -> Result<Report, CheckError>
         distance,
         "m",
     );
-    let norm: f64 = points.iter().map(|p| p.1 * p.1 + p.2 * p.2).sum();
-    report.figure("fit residual / signal (rms)", (residual / norm).sqrt(), "");
+    report.figure("fit residual / signal (rms)", split.misfit, "");
     Ok(report)
 }
 
