@@ -255,15 +255,9 @@ impl Flow3 {
             self.pi = projection(&mesh, &shape, &elements, &tau_e, &self.p);
         }
         lap(4);
-        self.u = correct(
-            &mesh,
-            &shape,
-            &elements,
-            &u_star,
-            &increment,
-            self.rho_kg_m3,
-            dt_s,
-        );
+        let strong = self.weak_surface_m.is_none();
+        let grad = nodal_gradient(&mesh, &shape, &elements, &increment, strong);
+        self.u = correct(&u_star, &grad, self.rho_kg_m3, dt_s);
         lap(5);
         self.advance_piston_plane();
         let guarded = self.move_nodes(dt_s, &shape.in_mesh);
@@ -452,7 +446,9 @@ impl Flow3 {
                 force[v[a] as usize] += f[a];
             }
         }
-        let grad_p = (self.gamma != 0.0).then(|| nodal_gradient(mesh, shape, elements, &self.p));
+        let strong = self.weak_surface_m.is_none();
+        let grad_p =
+            (self.gamma != 0.0).then(|| nodal_gradient(mesh, shape, elements, &self.p, strong));
         let u_star = (0..n)
             .map(|i| {
                 let mut accel = if mass[i] > 0.0 {
