@@ -76,9 +76,9 @@ fn trouble_stops_a_3d_run_and_keeps_what_was_recorded() {
 #[test]
 fn a_2d_only_setting_in_a_3d_case_is_refused_with_its_field() {
     let dir = common::out_dir("three_d_refused");
-    let (code, stderr) = run(&dir, &["--set", "solver.surface_filter=0.2"]);
+    let (code, stderr) = run(&dir, &["--set", "solver.geometry_theta=1"]);
     assert_eq!(code, Some(1), "{stderr}");
-    assert!(stderr.contains("solver.surface_filter"), "{stderr}");
+    assert!(stderr.contains("solver.geometry_theta"), "{stderr}");
     assert!(!dir.join("summary.json").exists());
     let out = Command::new(env!("CARGO_BIN_EXE_surflab"))
         .current_dir(common::root())

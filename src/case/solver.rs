@@ -107,8 +107,9 @@ pub struct SolverSettings {
     /// Strength ε in [0, 1) of the surface filter: each step the velocity of a free-surface
     /// fluid node loses ε/16 of the fourth difference of the velocities along the surface
     /// (two neighbours each side). It removes ε of a node-to-node (2h) ripple per step and
-    /// ε (k h)⁴/16 of a smooth wave of wavenumber k (see `solver/filter.rs`). Default off
-    /// (`None`; 0 in a case file is off too).
+    /// ε (k h)⁴/16 of a smooth wave of wavenumber k (see `solver/filter.rs`; in 3D the same
+    /// filter on the surface's triangles, `solver3d/filter.rs`). Default off (`None`; 0 in a
+    /// case file is off too).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub surface_filter: Option<f64>,
     /// Relaxation time T_r of the water area, s. The area the numerics lose (remeshing, motion)

@@ -6,6 +6,7 @@
 //! the tank is in `piston`, node management in `nodes`, the pressure equation and the
 //! correction in `pressure`.
 
+mod filter;
 mod ic0;
 pub mod nodes;
 pub mod piston;
@@ -129,6 +130,8 @@ pub struct Flow3 {
     /// Two free-surface fluid nodes closer than this along a kept edge become one (`nodes`),
     /// m; `None`: no merging.
     pub merge_distance_m: Option<f64>,
+    /// ε of the surface velocities' fourth-difference filter (`filter`); `None`: off.
+    pub surface_filter: Option<f64>,
 }
 
 /// The stages of [`Flow3::step`], in order.
@@ -258,6 +261,9 @@ impl Flow3 {
         let strong = self.weak_surface_m.is_none();
         let grad = nodal_gradient(&mesh, &shape, &elements, &increment, strong);
         self.u = correct(&u_star, &grad, self.rho_kg_m3, dt_s);
+        if let Some(eps) = self.surface_filter {
+            filter::filter_surface(&mut self.u, &shape.surface, &self.walls, eps);
+        }
         lap(5);
         self.advance_piston_plane();
         let guarded = self.move_nodes(dt_s, &shape.in_mesh);
@@ -682,6 +688,7 @@ pub fn still_tank(nx: usize, ny: usize, nz: usize, h: f64, jitter: f64) -> Flow3
         insert_radius_m: None,
         remove_distance_m: None,
         merge_distance_m: None,
+        surface_filter: None,
     }
 }
 

@@ -137,7 +137,6 @@ pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
     let s = &case.solver;
     let two_d_only = [
         ("solver.delta", s.delta > 0.0),
-        ("solver.surface_filter", s.surface_filter.is_some()),
         (
             "solver.volume_relaxation_s",
             s.volume_relaxation_s.is_some(),
@@ -359,5 +358,6 @@ pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
             .map(|r| super::nodes::insert_radius_3d(r, h)),
         remove_distance_m: case.solver.remove_distance_h.map(|d| d * h),
         merge_distance_m: case.solver.merge_surface_distance_h.map(|d| d * h),
+        surface_filter: case.solver.surface_filter,
     })
 }

@@ -292,7 +292,6 @@ fn cases_the_3d_path_cannot_run_are_refused_with_the_field() {
     let err = setup::from_case(&narrow).unwrap_err();
     assert_eq!(err.field, "flume.width_m", "{err}");
     for (setting, field) in [
-        ("solver.surface_filter=0.2", "solver.surface_filter"),
         ("solver.midpoint_move=true", "solver.midpoint_move"),
         ("solver.delta=0.03", "solver.delta"),
         ("solver.geometry_theta=1", "solver.geometry_theta"),
@@ -303,8 +302,9 @@ fn cases_the_3d_path_cannot_run_are_refused_with_the_field() {
         let err = setup::from_case(&load(&[setting])).unwrap_err();
         assert_eq!(err.field, field, "{err}");
     }
-    // Off (0) is the default and runs.
-    assert!(setup::from_case(&load(&["solver.surface_filter=0"])).is_ok());
+    // The surface filter runs in 3D too (`solver3d::filter`).
+    let filtered = setup::from_case(&load(&["solver.surface_filter=0.2"])).unwrap();
+    assert_eq!(filtered.surface_filter, Some(0.2));
     let mut flat = load(&[]);
     flat.flume.width_m = None;
     assert_eq!(setup::from_case(&flat).unwrap_err().field, "flume.width_m");
