@@ -8,14 +8,15 @@
 //!
 //! u_i ← u_i − (ε/4) (L(L u))_i.
 //!
-//! On a chain this is the 2D filter exactly; on a surface a wave of length λ ≫ h loses about
-//! ε (kh)⁴/16 per step (times a factor of order one that depends on the valences), a ripple of
-//! two spacings most of ε. L is computed only at "plain" nodes: fluid nodes whose every
-//! surface edge is shared by two free-surface triangles (the surface closes around them:
-//! neither a contact line with a wall nor an edge of a sheet or a branch) and whose every
-//! surface neighbour is a fluid node; the filter changes a plain node whose neighbours are all
-//! plain. Elsewhere (within two nodes of a wall, a tear or a thin sheet's edge) the velocity is
-//! left alone, as the 2D filter leaves the ends of a chain.
+//! On a chain this is the 2D filter exactly; on a surface a wave or a ripple loses the chain's
+//! share times a factor of order one that depends on the valences (4/9 on a lattice of six
+//! neighbours: a wave of length λ ≫ h about (4/9) ε (kh)⁴/16 per step, a ripple of two
+//! spacings 4ε/9). L is computed only at "plain" nodes: fluid nodes whose every surface edge
+//! is shared by two free-surface triangles (the surface closes around them: neither a contact
+//! line with a wall nor an edge of a sheet or a branch) and whose every surface neighbour is a
+//! fluid node; the filter changes a plain node whose neighbours are all plain. Elsewhere
+//! (within two nodes of a wall, a tear or a thin sheet's edge) the velocity is left alone, as
+//! the 2D filter leaves the ends of a chain.
 
 use nalgebra::Vector3;
 
