@@ -129,9 +129,9 @@ pub struct Fic<'a> {
 /// nodes are all on the free surface — a skin over a curved surface — is left out of the
 /// average of a node that has other tetrahedra: its gradient is that of the four imposed
 /// values (zero, or a wall's contact-point pressures), not the water's, and averaged in it
-/// took that share of the pressure's support from the surface node, which fell. On the narrow piston tank cut to
-/// 1.6 m the water kept at 5 s went from 0.9846 to 0.9945 (`docs/three_d.md`, *The piston*).
-/// A node in skins only keeps their (zero) gradient.
+/// took that share of the pressure's support from the surface node, which fell. On the
+/// narrow piston tank cut to 1.6 m the water kept at 5 s went from 0.9846 to 0.9945
+/// (`docs/three_d.md`, *The piston*). A node in skins only keeps their (zero) gradient.
 pub fn nodal_gradient(
     mesh: &Tetrahedralisation,
     shape: &AlphaShape,
