@@ -115,7 +115,8 @@ pub struct SolverSettings {
     /// Relaxation time T_r of the water area, s. The area the numerics lose (remeshing, motion)
     /// is booked per vertical strip of 20 h, and the nodes deep in the water of that strip (not
     /// on the mesh boundary, no wall neighbour) are asked for the divergence that gives it back
-    /// over about T_r (see `solver/relax.rs`). Default off (`None`; 0 in a case file is off too).
+    /// over about T_r (see `solver/relax.rs`; in 3D per cell of 20 h along x and about 20 h
+    /// across, `solver3d/relax.rs`). Default off (`None`; 0 in a case file is off too).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub volume_relaxation_s: Option<f64>,
     /// Implicitness θₓ in (0, 1] of the short-scale surface motion. After the first pass of the

@@ -8,12 +8,15 @@
 
 mod filter;
 mod ic0;
+mod integrals;
 pub mod nodes;
 pub mod piston;
 pub mod pressure;
+pub mod relax;
 pub mod setup;
 mod walls;
 
+pub use integrals::Integrals3;
 pub use nodes::{INSERT_RADIUS_3D_OVER_2D, NodeChanges3};
 pub use piston::Piston3;
 
@@ -132,6 +135,8 @@ pub struct Flow3 {
     pub merge_distance_m: Option<f64>,
     /// ε of the surface velocities' fourth-difference filter (`filter`); `None`: off.
     pub surface_filter: Option<f64>,
+    /// The volume relaxation's ledger (`relax`, `solver.volume_relaxation_s`); `None`: off.
+    pub relax: Option<relax::Relax3>,
 }
 
 /// The stages of [`Flow3::step`], in order.
@@ -165,20 +170,6 @@ pub struct Step3 {
     pub nodes: NodeChanges3,
     /// Wall time of each stage of [`STAGES_3D`], ms.
     pub stage_ms: [f64; 8],
-}
-
-/// What a frame of a 3D run reports (the 3D counterpart of `diagnostics::Integrals`).
-#[derive(Debug, Clone, Copy, Default, serde::Serialize)]
-pub struct Integrals3 {
-    pub fluid_particles: usize,
-    /// Fluid particles in no kept tetrahedron.
-    pub isolated_particles: usize,
-    pub max_speed_m_s: f64,
-    pub kinetic_energy_j: f64,
-    /// Largest x of a fluid particle in the mesh, m.
-    pub front_x_m: f64,
-    /// Highest fluid particle in the mesh within 1.5 h of the wall x = 0, m.
-    pub left_wall_height_m: f64,
 }
 
 impl Flow3 {
@@ -220,6 +211,8 @@ impl Flow3 {
             }
         }
         let volume_m3 = elements.iter().map(|e| e.volume).sum();
+        let target = (self.relax.as_mut())
+            .map(|r| r.targets(&self.x, &self.walls, &mesh, &shape, &elements));
         // Every node of the mesh, walls included, predicts from the momentum equation; the
         // wall's u·n = 0 enters through the pressure's natural boundary condition, and the
         // wall's constraint is applied to the corrected velocity.
@@ -246,6 +239,7 @@ impl Flow3 {
             fixed.as_deref(),
             fic,
             (self.gamma != 0.0).then_some(&self.p[..]),
+            target.as_deref(),
         )?;
         // What the correction applies: the increment with the incremental split.
         let increment: Vec<f64> = p
@@ -268,6 +262,9 @@ impl Flow3 {
         self.advance_piston_plane();
         let guarded = self.move_nodes(dt_s, &shape.in_mesh);
         self.place_piston_band();
+        if let Some(r) = &mut self.relax {
+            r.after_move(&self.x, &mesh, &shape);
+        }
         // The same tetrahedra on the moved nodes: what the move changed (the next remesh
         // changes the rest).
         let moved_volume_m3 = shape
@@ -545,80 +542,6 @@ impl Flow3 {
             })
             .collect()
     }
-
-    /// The largest speed of a fluid node, m/s.
-    pub fn max_fluid_speed(&self) -> f64 {
-        (0..self.x.len())
-            .filter(|&i| self.walls[i] == 0)
-            .map(|i| self.u[i].norm())
-            .fold(0.0, f64::max)
-    }
-
-    /// Every crossing of the vertical line through (`x_m`, ·, `z_m`) with the last step's free
-    /// surface (its triangles, walls excluded), heights in m, highest first; empty where the
-    /// line meets no water. A crossing on an edge or a node shared by several triangles is
-    /// counted once; more than one crossing means an overturned face, a jet or a drop above.
-    pub fn surface_heights_at(&self, x_m: f64, z_m: f64) -> Vec<f64> {
-        let mut out = Vec::new();
-        for f in &self.surface {
-            let [a, b, c] = f.map(|i| self.x[i as usize]);
-            // Barycentric coordinates of (x, z) in the triangle's projection on the bed.
-            let det = (b[0] - a[0]) * (c[2] - a[2]) - (c[0] - a[0]) * (b[2] - a[2]);
-            if det == 0.0 {
-                continue; // a vertical triangle: its edges belong to its neighbours
-            }
-            let l1 = ((x_m - a[0]) * (c[2] - a[2]) - (c[0] - a[0]) * (z_m - a[2])) / det;
-            let l2 = ((b[0] - a[0]) * (z_m - a[2]) - (x_m - a[0]) * (b[2] - a[2])) / det;
-            let l0 = 1.0 - l1 - l2;
-            let eps = -1e-12;
-            if l0 >= eps && l1 >= eps && l2 >= eps {
-                out.push(l0 * a[1] + l1 * b[1] + l2 * c[1]);
-            }
-        }
-        out.sort_by(|p, q| q.total_cmp(p));
-        out.dedup_by(|p, q| (*p - *q).abs() < 1e-9 * self.h_m);
-        out
-    }
-
-    /// The frame's figures (see [`Integrals3`]); the mesh flags are the last step's.
-    pub fn integrals(&self) -> Integrals3 {
-        let mut out = Integrals3 {
-            front_x_m: f64::NAN,
-            left_wall_height_m: f64::NAN,
-            ..Default::default()
-        };
-        let (mut front, mut wall_top) = (f64::NEG_INFINITY, f64::NEG_INFINITY);
-        let x0 = self
-            .planes
-            .iter()
-            .find(|p| p.axis == 0 && p.inward > 0.0)
-            .map_or(0.0, |p| p.at_m);
-        for i in 0..self.x.len() {
-            if self.walls[i] != 0 {
-                continue;
-            }
-            out.fluid_particles += 1;
-            let speed = self.u[i].norm();
-            out.max_speed_m_s = out.max_speed_m_s.max(speed);
-            // Each particle carries the volume h³.
-            out.kinetic_energy_j += 0.5 * self.rho_kg_m3 * self.h_m.powi(3) * speed * speed;
-            if !self.in_mesh.get(i).copied().unwrap_or(false) {
-                out.isolated_particles += 1;
-                continue;
-            }
-            front = front.max(self.x[i][0]);
-            if self.x[i][0] - x0 < 1.5 * self.h_m {
-                wall_top = wall_top.max(self.x[i][1]);
-            }
-        }
-        if front.is_finite() {
-            out.front_x_m = front;
-        }
-        if wall_top.is_finite() {
-            out.left_wall_height_m = wall_top;
-        }
-        out
-    }
 }
 
 /// Numbers a tetrahedralisation and α-shape built on the nodes `active` (in index order) as
@@ -689,6 +612,7 @@ pub fn still_tank(nx: usize, ny: usize, nz: usize, h: f64, jitter: f64) -> Flow3
         remove_distance_m: None,
         merge_distance_m: None,
         surface_filter: None,
+        relax: None,
     }
 }
 

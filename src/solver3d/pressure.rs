@@ -216,6 +216,10 @@ fn weighted_gradient(
 /// With `p_old` (the incremental split, γ = 1: `u_star` then carries −(Δt/ρ) ∇pⁿ), the right
 /// side gains Σ_e V b_i·∇pⁿ_e, so that the equation is the increment's, p − pⁿ, while p = 0
 /// (or the contact pressure) is imposed on the current free surface.
+///
+/// With `target` (1/s per node, the volume relaxation's, `relax`), the continuity equation asks
+/// for ∇·u = s instead of 0: D ũ becomes D ũ − M s, M the lumped volume of each tetrahedron's
+/// nodes (V/4).
 #[allow(clippy::too_many_arguments)]
 pub fn pressure(
     points: &[[f64; 3]],
@@ -231,6 +235,7 @@ pub fn pressure(
     fixed: Option<&[f64]>,
     fic: Option<Fic>,
     p_old: Option<&[f64]>,
+    target: Option<&[f64]>,
 ) -> Result<(Vec<f64>, usize), PressureError> {
     let fixed_at = |i: u32| fixed.map_or(0.0, |f| f[i as usize]);
     let n = shape.in_mesh.len();
@@ -290,6 +295,9 @@ pub fn pressure(
                 continue;
             }
             rhs[row as usize] += rho / dt_s * e.volume * e.grad[a].dot(&(mean_u + flux));
+            if let Some(s) = target {
+                rhs[row as usize] += rho / dt_s * e.volume / 4.0 * s[v[a] as usize];
+            }
             for b in 0..4 {
                 // A node of imposed pressure (0 but at a contact point) moves to the right.
                 if unknown[v[b] as usize] == u32::MAX {

@@ -137,10 +137,6 @@ pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
     let s = &case.solver;
     let two_d_only = [
         ("solver.delta", s.delta > 0.0),
-        (
-            "solver.volume_relaxation_s",
-            s.volume_relaxation_s.is_some(),
-        ),
         ("solver.geometry_theta", s.geometry_theta.is_some()),
         // The 3D predictor's viscous term is explicit.
         ("solver.theta", s.theta != 0.0),
@@ -359,5 +355,9 @@ pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
         remove_distance_m: case.solver.remove_distance_h.map(|d| d * h),
         merge_distance_m: case.solver.merge_surface_distance_h.map(|d| d * h),
         surface_filter: case.solver.surface_filter,
+        relax: case
+            .solver
+            .volume_relaxation_s
+            .map(|t_r| super::relax::Relax3::new(t_r, h, 0.0, width)),
     })
 }

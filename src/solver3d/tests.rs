@@ -28,7 +28,7 @@ fn one_step_at_rest(
     let u_star = vec![Vector3::new(0.0, -G * DT, 0.0); p.len()];
     let elements = elements(p, &mesh, &shape).unwrap();
     let (pressure, _) = pressure(
-        p, &mesh, &shape, &elements, &u_star, RHO, DT, solver, None, None, None, None, None,
+        p, &mesh, &shape, &elements, &u_star, RHO, DT, solver, None, None, None, None, None, None,
     )
     .unwrap();
     let grad = nodal_gradient(&mesh, &shape, &elements, &pressure, true);
@@ -364,6 +364,7 @@ fn the_weak_surface_keeps_a_jittered_tank_at_rest_with_the_level_raised_by_lambd
         DT,
         Solver3::Cholesky,
         Some(weak),
+        None,
         None,
         None,
         None,
