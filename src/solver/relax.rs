@@ -118,8 +118,14 @@ pub(crate) fn strip_areas(mesh: &Mesh, position: &[Vector2<f64>], strip_m: f64) 
 /// The divergence, 1/s, asked of the deep water of each strip, given the strips' balances
 /// and deep areas (m²). From the shore out, a strip pays what its deep water can (at most
 /// `MAX_RATE` of its area per T_r) and passes the rest on; one with less than `min_deep_m2`
-/// of deep water passes it all. What is left past the last strip is paid later.
-fn strip_rates(error_m2: &[f64], deep_m2: &[f64], min_deep_m2: f64, t_r: f64) -> Vec<f64> {
+/// of deep water passes it all. What is left past the last strip is paid later. (In 3D the
+/// same per band of cells, with volumes: `solver3d/relax.rs`.)
+pub(crate) fn strip_rates(
+    error_m2: &[f64],
+    deep_m2: &[f64],
+    min_deep_m2: f64,
+    t_r: f64,
+) -> Vec<f64> {
     let mut rate = vec![0.0; error_m2.len()];
     let mut carry = 0.0;
     for b in (0..error_m2.len()).rev() {
@@ -134,7 +140,8 @@ fn strip_rates(error_m2: &[f64], deep_m2: &[f64], min_deep_m2: f64, t_r: f64) ->
     rate
 }
 
-fn add_into(into: &mut Vec<f64>, b: usize, v: f64) {
+/// Adds `v` to `into[b]`, growing `into` with zeros as needed.
+pub(crate) fn add_into(into: &mut Vec<f64>, b: usize, v: f64) {
     if into.len() <= b {
         into.resize(b + 1, 0.0);
     }

@@ -21,7 +21,7 @@
 //! The nodes deep in the water of cell c (fluid nodes of the kept mesh, not on the free surface
 //! and in no kept tetrahedron with a wall node) are asked for the uniform divergence
 //!
-//! ∇·u = −E_c / (V_c T_r),  capped at ±`MAX_RATE`/T_r,
+//! ∇·u = −E_c / (V_c T_r),  capped at ±0.25/T_r (`solver/relax.rs`'s cap),
 //!
 //! V_c their lumped volume; the payment is itself a change of the motion, so the ledger closes.
 //! In each band, from the shore out, a cell with less than `MIN_DEEP_H3`·h³ of deep water (the
@@ -30,12 +30,11 @@
 
 use crate::fem::tet::P1Tet;
 use crate::mesh3d::{AlphaShape, Tetrahedralisation};
+use crate::solver::relax::{add_into, strip_rates};
 use nalgebra::Vector3;
 
 /// Strip width along x, and the bands' target width across, in units of h (as in 2D).
 const STRIP_H: f64 = 20.0;
-/// Largest |E_c| / V_c the divergence acts on, per T_r.
-const MAX_RATE: f64 = 0.25;
 /// Least deep volume a cell needs to pay its own balance, in units of h³.
 const MIN_DEEP_H3: f64 = 10.0;
 
@@ -106,13 +105,6 @@ pub fn volume_left_of(p: &[Vector3<f64>; 4], c: f64) -> f64 {
                 + tet_volume(&[p[a], p[b], br, bs])
         }
     }
-}
-
-fn add_into(into: &mut Vec<f64>, k: usize, v: f64) {
-    if into.len() <= k {
-        into.resize(k + 1, 0.0);
-    }
-    into[k] += v;
 }
 
 impl Relax3 {
@@ -221,26 +213,21 @@ impl Relax3 {
             .collect()
     }
 
-    /// The divergence asked of each cell's deep water (1/s), given its deep volume: per band,
-    /// from the shore out, as `solver/relax.rs`'s strips.
+    /// The divergence asked of each cell's deep water (1/s), given its deep volume: each band's
+    /// cells in turn as `solver/relax.rs`'s strips, from the shore out.
     fn cell_rates(&self, deep_m3: &[f64]) -> Vec<f64> {
         let min_deep = MIN_DEEP_H3 * self.h_m.powi(3);
-        let mut rate = vec![0.0; self.error_m3.len()];
-        let strips = self.error_m3.len().div_ceil(self.bands);
+        let cells = self.error_m3.len();
+        let mut rate = vec![0.0; cells];
         for band in 0..self.bands {
-            let mut carry = 0.0;
-            for strip in (0..strips).rev() {
-                let c = strip * self.bands + band;
-                if c >= self.error_m3.len() {
-                    continue;
-                }
-                carry += self.error_m3[c];
-                if deep_m3[c] >= min_deep {
-                    let most = MAX_RATE * deep_m3[c];
-                    let paid = carry.clamp(-most, most);
-                    rate[c] = -paid / (deep_m3[c] * self.time_s);
-                    carry -= paid;
-                }
+            let band_cells: Vec<usize> = (band..cells).step_by(self.bands).collect();
+            let error: Vec<f64> = band_cells.iter().map(|&c| self.error_m3[c]).collect();
+            let deep: Vec<f64> = band_cells.iter().map(|&c| deep_m3[c]).collect();
+            for (&c, r) in band_cells
+                .iter()
+                .zip(strip_rates(&error, &deep, min_deep, self.time_s))
+            {
+                rate[c] = r;
             }
         }
         rate
