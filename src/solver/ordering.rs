@@ -13,6 +13,20 @@
 //! against 118 000) they fall into dense blocks, so the supernodal factorisation takes
 //! 2.8–3.2 ms against 4.6–5.8 ms for AMD's simplicial one.
 //!
+//! A long, thin set of nodes (its longest extent above [`BAND_RATIO`] times the next one: a
+//! flume's water, 15–90 times longer than deep) is not cut but ordered along its length, so
+//! that the factor is a band as wide as the water is deep. Its factor has about as many
+//! entries and operations as the dissected one, but in half the supernodes, and faer's
+//! left-looking factorisation pays about 2 µs per supernode over its arithmetic. `surflab
+//! bench` (medians over 200 steps, two runs each, one sitting; numeric factor and solve, the
+//! wait for the symbolic analysis, step): teaching beach 2.9–3.1 → 1.6–1.7 ms, 0.47 → 0.03 ms,
+//! 11.8–12.9 → 9.3–9.7 ms (731 → 315 supernodes, 3.70 → 3.60 Mflop); Ting & Kirby spilling
+//! (11 799 nodes) 6.3–6.5 → 3.5–3.6 ms, 1.0 → 0.01 ms, 30.2–31.0 → 25.7–25.8 ms; the flap
+//! flume (19 207 nodes) 12.8–13.1 → 9.6–11.1 ms. At half the teaching beach's spacing (40
+//! nodes deep) the band still wins (12.4 → 11.0 ms, though 27 → 38 Mflop). Not below a ratio
+//! of 4: at 2 the dam break's and the sloshing tank's water were banded and their factors took
+//! 2.4 and 3 times the operations (3.0–3.4 → 3.7–3.9 ms, 3.0–3.7 → 4.4–5.1 ms).
+//!
 //! The same cut serves the 3D pressure on tetrahedra (positions in three dimensions), where a
 //! separator holds about n^(2/3) nodes.
 
@@ -25,6 +39,10 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 
 /// Node sets at most this large are not split further (8–64 measured alike; 16 was best).
 const LEAF_NODES: usize = 16;
+
+/// A set of nodes whose longest extent exceeds this many times the next longest is ordered
+/// along its length instead of cut (see the module's doc).
+const BAND_RATIO: f64 = 4.0;
 
 /// Symbolic Cholesky analysis of a symmetric pattern (full CSR = CSC) whose rows are nodes at
 /// `position` (2D or 3D): nested-dissection ordering, supernodal structure.
@@ -139,6 +157,16 @@ impl<const D: usize> Cut<'_, D> {
                 best
             }
         });
+        let next_longest = (0..D)
+            .filter(|&a| a != axis)
+            .map(|a| hi[a] - lo[a])
+            .fold(0.0, f64::max);
+        if hi[axis] - lo[axis] > BAND_RATIO * next_longest {
+            // A long, thin set: along its length (a stable sort, so ties keep their order).
+            nodes.sort_by(|&a, &b| pos[a][axis].total_cmp(&pos[b][axis]));
+            self.order.extend_from_slice(&nodes);
+            return;
+        }
         let mid = nodes.len() / 2;
         nodes.select_nth_unstable_by(mid, |&a, &b| pos[a][axis].total_cmp(&pos[b][axis]));
         let (lower, upper) = (self.next_part, self.next_part + 1);
@@ -237,6 +265,31 @@ mod tests {
         let mut order = nested_dissection(&position, &row_ptr, &col);
         order.sort_unstable();
         assert_eq!(order, (0..37 * 11).collect::<Vec<_>>());
+    }
+
+    /// A strip 25 times longer than wide is ordered along its length, column by column: a band
+    /// whose factor holds at most ny + 1 entries per column.
+    #[test]
+    fn a_long_strip_is_ordered_along_its_length() {
+        let (nx, ny) = (200, 8);
+        let (position, row_ptr, col) = grid(nx, ny);
+        let order = nested_dissection(&position, &row_ptr, &col);
+        assert!(
+            order
+                .windows(2)
+                .all(|w| position[w[0]][0] <= position[w[1]][0])
+        );
+        let entries = factor_entries(&order, &row_ptr, &col);
+        println!("200×8 strip: factor entries {entries}");
+        assert!(entries <= nx * ny * (ny + 1), "{entries}");
+        // A square is still cut: its first node is not at the lowest x.
+        let (position, row_ptr, col) = grid(30, 30);
+        let order = nested_dissection(&position, &row_ptr, &col);
+        assert!(
+            order
+                .windows(2)
+                .any(|w| position[w[0]][0] > position[w[1]][0])
+        );
     }
 
     #[test]
