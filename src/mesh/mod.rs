@@ -478,16 +478,16 @@ pub fn alpha_shape(
     mesh.wetted = wetted;
 
     // Boundary edges: an edge a → b of a kept triangle with no kept triangle holding b → a.
+    // The kept triangles are Delaunay triangles, all counter-clockwise and none overlapping, so
+    // another triangle with both ends holds the edge as b → a.
     mesh.index_triangles(n);
-    let has_edge =
-        |t: &[u32; 3], from: u32, to: u32| (0..3).any(|e| t[e] == from && t[(e + 1) % 3] == to);
     for (k, t) in mesh.triangles.iter().enumerate() {
         for e in 0..3 {
             let (from, to) = (t[e], t[(e + 1) % 3]);
-            let shared = mesh
-                .triangles_around(to as usize)
-                .iter()
-                .any(|&o| has_edge(&mesh.triangles[o as usize], to, from));
+            let shared = mesh.triangles_around(to as usize).iter().any(|&o| {
+                let u = &mesh.triangles[o as usize];
+                o as usize != k && (u[0] == from) | (u[1] == from) | (u[2] == from)
+            });
             if shared {
                 continue;
             }
