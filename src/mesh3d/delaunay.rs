@@ -1,7 +1,7 @@
-//! The 3D Delaunay tetrahedralisation of a particle cloud: incremental Bowyer–Watson on
-//! Shewchuk's exact predicates (the `robust` crate), points inserted in a biased randomised
-//! order (rounds of doubling size, each sorted along a Hilbert curve) so that each walk to the
-//! new point is short.
+//! The 3D Delaunay tetrahedralisation of a particle cloud: incremental Bowyer–Watson on exact
+//! predicates (`robust`'s orientation; the in-sphere test of `exact.rs`, which decides ties in
+//! integers), points inserted in a biased randomised order (rounds of doubling size, each
+//! sorted along a Hilbert curve) so that each walk to the new point is short.
 //!
 //! The points are first enclosed in a tetrahedron whose corners lie `FAR` box diagonals away;
 //! the tetrahedra that touch a corner are dropped at the end. A tetrahedron of the points'
@@ -15,7 +15,7 @@
 //! inside) and a strictly positive volume.
 
 use super::order::{Rng, insertion_order};
-use robust::{Coord3D, insphere, orient3d};
+use robust::{Coord3D, orient3d};
 
 /// No neighbour across this face (the face is on the boundary of the tetrahedralisation).
 pub const NONE: u32 = u32::MAX;
@@ -57,15 +57,14 @@ fn orient(p: &[[f64; 3]], v: [u32; 4]) -> f64 {
     )
 }
 
-/// Positive when `q` lies strictly inside the circumsphere of the positively oriented `v`.
+/// Positive when `q` lies strictly inside the circumsphere of the positively oriented `v`
+/// (the sign of `robust::insphere`, exactly; [`super::exact`]). Out of line: the cached
+/// spheres decide nearly every test on a random cloud.
+#[cold]
+#[inline(never)]
 fn in_sphere(p: &[[f64; 3]], v: [u32; 4], q: &[f64; 3]) -> f64 {
-    insphere(
-        coord(&p[v[0] as usize]),
-        coord(&p[v[1] as usize]),
-        coord(&p[v[2] as usize]),
-        coord(&p[v[3] as usize]),
-        coord(q),
-    )
+    let node = |k: usize| &p[v[k] as usize];
+    super::exact::in_sphere(node(0), node(1), node(2), node(3), q)
 }
 
 #[inline(always)]

@@ -4,6 +4,7 @@
 
 pub mod alpha;
 pub mod delaunay;
+mod exact;
 mod order;
 
 pub use alpha::{
