@@ -4,7 +4,7 @@
 //! Those are nearly all ties: a PFEM cloud starts on a lattice and its wall nodes stay on one,
 //! so five points on one sphere (to the last bit or nearly) are the common case there, not the
 //! exception. `robust`'s adaptive predicate settles a tie only in its last, exact stage, which
-//! zeroes about 215 kB of fixed scratch arrays per call before summing its expansions; on the
+//! zeroes over 200 kB of fixed scratch arrays per call before summing its expansions; on the
 //! narrow piston tank that stage took over half the samples of a whole 3D step.
 //!
 //! Here the floating-point determinant is tried first with Shewchuk's static error bound
@@ -12,7 +12,8 @@
 //! evaluated in integers. Every finite double is an integer times a power of two, so the
 //! points' coordinates are written as integers in units of the smallest power among them; the
 //! differences to the fifth point then hold at most 101 bits and the 4 × 4 lifted determinant
-//! at most 512, which [`Int`] (nine 64-bit limbs, sign and magnitude) holds exactly. When the
+//! at most 512, which [`Int`] (nine 64-bit limbs, sign and magnitude) holds exactly (the minors
+//! and lifts in i128 when the differences are below 2⁶², as nearly always). When the
 //! coordinates' exponents span more than 47 binary orders (a coordinate within 10⁻¹⁴ of zero
 //! beside others of order one), `robust` decides instead.
 
@@ -124,13 +125,52 @@ fn exact_sign(p: [&[f64; 3]; 5]) -> Option<i32> {
     }
     let int = |i: usize, a: usize| parts[i][a].map_or(0i128, |(m, k)| i128::from(m) << (k - lo));
     // Differences to the fifth point: at most 101 bits.
-    let diff = |i: usize| [0, 1, 2].map(|a| Int::from_i128(int(i, a) - int(4, a)));
+    let d = [0, 1, 2, 3].map(|i| [0, 1, 2].map(|a| int(i, a) - int(4, a)));
+    let narrow = d.iter().flatten().all(|v| v.unsigned_abs() < 1 << 62);
+    Some(if narrow {
+        det_sign_narrow(&d)
+    } else {
+        det_sign_wide(&d)
+    })
+}
+
+/// The sign of the lifted determinant of the differences `d` (rows a, b, c, d; columns x, y,
+/// z), every one below 2⁶² in magnitude: the 2 × 2 minors and the lifts then fit in i128
+/// (below 2¹²⁶), and only the last products need [`Int`].
+fn det_sign_narrow(d: &[[i128; 3]; 4]) -> i32 {
     let [
         [aex, aey, aez],
         [bex, bey, bez],
         [cex, cey, cez],
         [dex, dey, dez],
-    ] = [diff(0), diff(1), diff(2), diff(3)];
+    ] = *d;
+    let int = Int::from_i128;
+    let (ab, bc) = (int(aex * bey - bex * aey), int(bex * cey - cex * bey));
+    let (cd, da) = (int(cex * dey - dex * cey), int(dex * aey - aex * dey));
+    let (ac, bd) = (int(aex * cey - cex * aey), int(bex * dey - dex * bey));
+    let lift = |x: i128, y: i128, z: i128| int(x * x + y * y + z * z);
+    let (alift, blift) = (lift(aex, aey, aez), lift(bex, bey, bez));
+    let (clift, dlift) = (lift(cex, cey, cez), lift(dex, dey, dez));
+    let [az, bz, cz, dz] = [aez, bez, cez, dez].map(int);
+    let abc = az.mul(&bc).sub(&bz.mul(&ac)).add(&cz.mul(&ab));
+    let bcd = bz.mul(&cd).sub(&cz.mul(&bd)).add(&dz.mul(&bc));
+    let cda = cz.mul(&da).add(&dz.mul(&ac)).add(&az.mul(&cd));
+    let dab = dz.mul(&ab).add(&az.mul(&bd)).add(&bz.mul(&da));
+    dlift
+        .mul(&abc)
+        .sub(&clift.mul(&dab))
+        .add(&blift.mul(&cda).sub(&alift.mul(&bcd)))
+        .signum()
+}
+
+/// [`det_sign_narrow`] for differences of up to 101 bits: every product in [`Int`].
+fn det_sign_wide(d: &[[i128; 3]; 4]) -> i32 {
+    let [
+        [aex, aey, aez],
+        [bex, bey, bez],
+        [cex, cey, cez],
+        [dex, dey, dez],
+    ] = d.map(|row| row.map(Int::from_i128));
     let minor = |p: &Int, q: &Int, r: &Int, s: &Int| p.mul(q).sub(&r.mul(s));
     let ab = minor(&aex, &bey, &bex, &aey);
     let bc = minor(&bex, &cey, &cex, &bey);
@@ -145,11 +185,11 @@ fn exact_sign(p: [&[f64; 3]; 5]) -> Option<i32> {
     let lift = |x: &Int, y: &Int, z: &Int| x.mul(x).add(&y.mul(y)).add(&z.mul(z));
     let (alift, blift) = (lift(&aex, &aey, &aez), lift(&bex, &bey, &bez));
     let (clift, dlift) = (lift(&cex, &cey, &cez), lift(&dex, &dey, &dez));
-    let det = dlift
+    dlift
         .mul(&abc)
         .sub(&clift.mul(&dab))
-        .add(&blift.mul(&cda).sub(&alift.mul(&bcd)));
-    Some(det.signum())
+        .add(&blift.mul(&cda).sub(&alift.mul(&bcd)))
+        .signum()
 }
 
 /// A signed integer of up to 576 bits, sign and magnitude (little-endian limbs, `len` of them
@@ -408,6 +448,34 @@ mod tests {
         }
         println!("{checked} non-flat cases, {ties} exact ties, {exact_calls} within integer range");
         assert!(ties > 1_000 && checked > 30_000, "{ties} ties of {checked}");
+    }
+
+    /// The two integer evaluations agree where both apply, on random differences below 2⁶²
+    /// and on exact ties (the corners of an integer cube, scaled).
+    #[test]
+    fn the_narrow_and_wide_integer_determinants_agree() {
+        let mut r = crate::mesh3d::xorshift(0xfeed);
+        let mut zeros = 0;
+        for case in 0..20_000 {
+            let d: [[i128; 3]; 4] = if case % 2 == 0 {
+                let bits = [4, 20, 40, 61][case % 4 / 2 * 2 + (case / 7) % 2];
+                [0, 1, 2, 3].map(|_| [0, 1, 2].map(|_| ((r() - 0.5) * 2f64.powi(bits)) as i128))
+            } else {
+                // Four corners of a cube less a fifth: co-spherical.
+                let scale = 1i128 << (r() * 58.0) as u32;
+                let corner = |k: i128| [k & 1, (k >> 1) & 1, (k >> 2) & 1].map(|b| b * scale);
+                let e = corner(7);
+                [0, 1, 2, 4].map(|k| {
+                    let c = corner(k);
+                    [c[0] - e[0], c[1] - e[1], c[2] - e[2]]
+                })
+            };
+            let (narrow, wide) = (det_sign_narrow(&d), det_sign_wide(&d));
+            assert_eq!(narrow, wide, "{d:?}");
+            zeros += usize::from(wide == 0);
+        }
+        println!("{zeros} zero determinants of 20 000");
+        assert!(zeros > 5_000);
     }
 
     /// Coordinates whose exponents span too far go to `robust`.
