@@ -267,7 +267,7 @@ mod tests {
         assert_eq!(order, (0..37 * 11).collect::<Vec<_>>());
     }
 
-    /// A strip 25 times longer than wide is ordered along its length, column by column: a band
+    /// A strip 28 times longer than wide is ordered along its length, column by column: a band
     /// whose factor holds at most ny + 1 entries per column.
     #[test]
     fn a_long_strip_is_ordered_along_its_length() {
@@ -282,7 +282,7 @@ mod tests {
         let entries = factor_entries(&order, &row_ptr, &col);
         println!("200×8 strip: factor entries {entries}");
         assert!(entries <= nx * ny * (ny + 1), "{entries}");
-        // A square is still cut: its first node is not at the lowest x.
+        // A square is still cut: its order does not run along x.
         let (position, row_ptr, col) = grid(30, 30);
         let order = nested_dissection(&position, &row_ptr, &col);
         assert!(
