@@ -39,7 +39,7 @@ pub struct Tetrahedralisation {
     pub duplicates: Vec<u32>,
 }
 
-fn coord(p: &[f64; 3]) -> Coord3D<f64> {
+pub(super) fn coord(p: &[f64; 3]) -> Coord3D<f64> {
     Coord3D {
         x: p[0],
         y: p[1],

@@ -17,7 +17,8 @@
 //! coordinates' exponents span more than 47 binary orders (a coordinate within 10⁻¹⁴ of zero
 //! beside others of order one), `robust` decides instead.
 
-use robust::{Coord3D, insphere};
+use super::delaunay::coord;
+use robust::insphere;
 
 /// Shewchuk's error bound of the in-sphere determinant evaluated in doubles, relative to its
 /// permanent: (16 + 224 ε) ε, ε = 2⁻⁵³.
@@ -72,14 +73,7 @@ pub fn in_sphere(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3], e: &[f6
     }
     match exact_sign([a, b, c, d, e]) {
         Some(s) => f64::from(s),
-        None => {
-            let k = |p: &[f64; 3]| Coord3D {
-                x: p[0],
-                y: p[1],
-                z: p[2],
-            };
-            insphere(k(a), k(b), k(c), k(d), k(e))
-        }
+        None => insphere(coord(a), coord(b), coord(c), coord(d), coord(e)),
     }
 }
 
@@ -151,16 +145,11 @@ fn det_sign_narrow(d: &[[i128; 3]; 4]) -> i32 {
     let lift = |x: i128, y: i128, z: i128| int(x * x + y * y + z * z);
     let (alift, blift) = (lift(aex, aey, aez), lift(bex, bey, bez));
     let (clift, dlift) = (lift(cex, cey, cez), lift(dex, dey, dez));
-    let [az, bz, cz, dz] = [aez, bez, cez, dez].map(int);
-    let abc = az.mul(&bc).sub(&bz.mul(&ac)).add(&cz.mul(&ab));
-    let bcd = bz.mul(&cd).sub(&cz.mul(&bd)).add(&dz.mul(&bc));
-    let cda = cz.mul(&da).add(&dz.mul(&ac)).add(&az.mul(&cd));
-    let dab = dz.mul(&ab).add(&az.mul(&bd)).add(&bz.mul(&da));
-    dlift
-        .mul(&abc)
-        .sub(&clift.mul(&dab))
-        .add(&blift.mul(&cda).sub(&alift.mul(&bcd)))
-        .signum()
+    lifted_sign(
+        [ab, bc, cd, da, ac, bd],
+        [aez, bez, cez, dez].map(int),
+        [alift, blift, clift, dlift],
+    )
 }
 
 /// [`det_sign_narrow`] for differences of up to 101 bits: every product in [`Int`].
@@ -178,13 +167,26 @@ fn det_sign_wide(d: &[[i128; 3]; 4]) -> i32 {
     let da = minor(&dex, &aey, &aex, &dey);
     let ac = minor(&aex, &cey, &cex, &aey);
     let bd = minor(&bex, &dey, &dex, &bey);
-    let abc = aez.mul(&bc).sub(&bez.mul(&ac)).add(&cez.mul(&ab));
-    let bcd = bez.mul(&cd).sub(&cez.mul(&bd)).add(&dez.mul(&bc));
-    let cda = cez.mul(&da).add(&dez.mul(&ac)).add(&aez.mul(&cd));
-    let dab = dez.mul(&ab).add(&aez.mul(&bd)).add(&bez.mul(&da));
     let lift = |x: &Int, y: &Int, z: &Int| x.mul(x).add(&y.mul(y)).add(&z.mul(z));
     let (alift, blift) = (lift(&aex, &aey, &aez), lift(&bex, &bey, &bez));
     let (clift, dlift) = (lift(&cex, &cey, &cez), lift(&dex, &dey, &dez));
+    lifted_sign(
+        [ab, bc, cd, da, ac, bd],
+        [aez, bez, cez, dez],
+        [alift, blift, clift, dlift],
+    )
+}
+
+/// The sign of the lifted determinant from the xy minors (ab, bc, cd, da, ac, bd), the z
+/// differences and the lifts of rows a, b, c, d: `robust::insphere`'s last products.
+fn lifted_sign(minors: [Int; 6], z: [Int; 4], lifts: [Int; 4]) -> i32 {
+    let [ab, bc, cd, da, ac, bd] = minors;
+    let [az, bz, cz, dz] = z;
+    let [alift, blift, clift, dlift] = lifts;
+    let abc = az.mul(&bc).sub(&bz.mul(&ac)).add(&cz.mul(&ab));
+    let bcd = bz.mul(&cd).sub(&cz.mul(&bd)).add(&dz.mul(&bc));
+    let cda = cz.mul(&da).add(&dz.mul(&ac)).add(&az.mul(&cd));
+    let dab = dz.mul(&ab).add(&az.mul(&bd)).add(&bz.mul(&da));
     dlift
         .mul(&abc)
         .sub(&clift.mul(&dab))
@@ -334,12 +336,8 @@ mod tests {
     use robust::orient3d;
 
     fn robust_sign(p: [&[f64; 3]; 5]) -> f64 {
-        let k = |q: &[f64; 3]| Coord3D {
-            x: q[0],
-            y: q[1],
-            z: q[2],
-        };
-        sign(insphere(k(p[0]), k(p[1]), k(p[2]), k(p[3]), k(p[4])))
+        let [a, b, c, d, e] = p.map(coord);
+        sign(insphere(a, b, c, d, e))
     }
 
     /// −1, 0 or 1 (`f64::signum` gives 1 for 0).
@@ -348,12 +346,8 @@ mod tests {
     }
 
     fn orient(p: [&[f64; 3]; 4]) -> f64 {
-        let k = |q: &[f64; 3]| Coord3D {
-            x: q[0],
-            y: q[1],
-            z: q[2],
-        };
-        orient3d(k(p[0]), k(p[1]), k(p[2]), k(p[3]))
+        let [a, b, c, d] = p.map(coord);
+        orient3d(a, b, c, d)
     }
 
     /// The big integers against i128 where i128 holds the result.
