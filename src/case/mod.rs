@@ -391,6 +391,7 @@ mod tests {
             ("water.0.x_end_m=2.0", "water[0].x_start_m"),
             ("particles.spacing_m=0", "particles.spacing_m"),
             ("solver.gamma=0.5", "solver.gamma"),
+            ("solver.increment_weight=0.5", "solver.increment_weight"),
         ] {
             let msg = parse(MINIMAL, &[o]).unwrap_err().to_string();
             assert!(msg.contains(field), "{o}: {msg}");

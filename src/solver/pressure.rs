@@ -1,7 +1,7 @@
 //! Stages `assemble` and `pressure_solve`: the stabilised pressure Poisson equation
 //! (thesis eq. 2.74 with the τ of method.md §1):
 //!
-//! (Δt/ρ L + L_τ) pⁿ⁺¹ = −D ũ + γ (Δt/ρ) L pⁿ − Q πⁿ,
+//! (Δt/ρ L + L_τ) pⁿ⁺¹ = −D ũ + γ (Δt/ρ) L pⁿ − Q πⁿ (β = 1 below),
 //!
 //! with, per element, L_ij = A b_i·b_j, L_τ,ij = τ_e A b_i·b_j, (D ũ)_i = (A/3) ∇·ũ and
 //! (Q π)_i = τ_e A b_i·π̄; with `volume_relaxation_s`, D ũ becomes D ũ − M s, s the
@@ -29,6 +29,22 @@
 //! Strong p = 0 leaves the surface layer without a continuity equation, and there a 2h ripple
 //! grows out of round-off (README, *Surface ripple*); the weak form damps it. The matrix is
 //! symmetric positive definite and assembled straight into CSR from the mesh.
+//!
+//! The incremental split (γ = 1) weights the operator of the increment by β
+//! (`solver.increment_weight`): with R the Robin term and S = β(Δt/ρ)L + (β − 1)R,
+//! (S + L_τ + R) pⁿ⁺¹ = −D ũ + S pⁿ − Q πⁿ, which converges to the same pressure for every β.
+//! The velocity ũ carries Δt M⁻¹Dᵀpⁿ, so with W = Δt D M⁻¹ Dᵀ, T = L_τ + R and the last step's
+//! divergence left in uⁿ, the pressure of a fixed mesh obeys the three-level recurrence
+//! (S + T) pⁿ⁺¹ = (2S + T − 2W) pⁿ + (W − S) pⁿ⁻¹ + forcing. A mode with the Rayleigh quotients
+//! w, s, t has a root μ = −1, a pressure that alternates from step to step, when
+//! 3w = 4s + 2t. With β = 1 that is w = (2/3)(2a + t): in Ting & Kirby's flume, at the nodes
+//! where the pressure alternated (±2–5 kPa at 2–8 cm depth, growing into 10–30 m/s kicks on
+//! broken crests), the increment's w/(2a + t) measured 0.69–0.71. The modes are those of the
+//! surface layer, where a nearly uniform pressure over a few surface nodes pushes them
+//! (w up to 23 a) while its gradient is small; R holds them, and the (β − 1)R of S doubles
+//! that hold at β = 2 without moving the converged pressure. The default is still β = 1:
+//! β = 2 removed the mode but lowered Ting & Kirby's set-up by a third and typed the
+//! plunging case spilling in the one run of each (docs/validation/ting_kirby.md).
 //!
 //! The pattern and the Dirichlet set are known as soon as the α-shape is: `prepare_pressure`
 //! builds the pattern and, for the Cholesky solver, starts the symbolic analysis (the
@@ -306,6 +322,7 @@ impl Solver {
     pub(super) fn assemble_pressure(&mut self, particles: &Particles, dt: f64) {
         let rho = self.params.density_kg_m3;
         let gamma = self.params.settings.gamma;
+        let beta = self.increment_weight();
         let area_dt = if self.params.settings.area_correction {
             dt
         } else {
@@ -343,6 +360,7 @@ impl Solver {
                     dt,
                     rho,
                     gamma,
+                    beta,
                     tau,
                     area_correction: self.params.settings.area_correction,
                 };
@@ -353,7 +371,7 @@ impl Solver {
                 continue;
             }
             for cell in self.cells.cells(e) {
-                let c = (dt / rho + tau) * cell.area;
+                let c = (beta * dt / rho + tau) * cell.area;
                 let grad_u = cell.velocity_gradient(|i| u_t[i]);
                 // Moving the nodes by Δt u changes the area by Δt A ∇·u + Δt² A det ∇u; with
                 // the correction, the equation asks for the divergence that cancels both.
@@ -369,7 +387,7 @@ impl Solver {
                     };
                 let grad_p = cell.gradient(|i| p_old[i]);
                 let pi_mean = cell.mean_vector(|i| pi_old[i]);
-                let flux = gamma * (dt / rho) * grad_p - tau * pi_mean;
+                let flux = gamma * beta * (dt / rho) * grad_p - tau * pi_mean;
                 let k = cell.nodes.len();
                 for a in 0..k {
                     let ia = cell.node(a);
@@ -391,6 +409,17 @@ impl Solver {
             }
         }
         self.add_weak_surface(particles, dt);
+    }
+
+    /// β of the incremental split; 1 for the first-order one (γ = 0), where S would
+    /// not cancel.
+    fn increment_weight(&self) -> f64 {
+        let s = &self.params.settings;
+        if s.gamma == 0.0 {
+            1.0
+        } else {
+            s.increment_weight()
+        }
     }
 
     /// The pressure of the Dirichlet nodes: 0, but a wall node pinned as a contact point gets
@@ -452,8 +481,10 @@ impl Solver {
         };
         let spacing = self.params.spacing;
         let rho = self.params.density_kg_m3;
+        let lag = self.increment_weight() - 1.0;
         let mesh = &self.mesh;
         let sys = &mut self.pressure;
+        let p_old = &self.p_old;
         for (&[a, b], &k) in mesh.boundary_edges.iter().zip(&mesh.boundary_edge_triangle) {
             let (a, b) = (a as usize, b as usize);
             let surface = mesh.free_surface[a] && mesh.free_surface[b];
@@ -469,7 +500,8 @@ impl Solver {
             for i in [a, b] {
                 let r = sys.row_of_node[i];
                 if r != NONE {
-                    sys.add(r as usize, r as usize, w);
+                    sys.add(r as usize, r as usize, (1.0 + lag) * w);
+                    sys.rhs[r as usize] += lag * w * p_old[i];
                 }
             }
         }
@@ -531,6 +563,7 @@ struct PolygonFields<'a> {
     dt: f64,
     rho: f64,
     gamma: f64,
+    beta: f64,
     tau: f64,
     area_correction: bool,
 }
@@ -559,7 +592,7 @@ fn assemble_polygon(
             }
         }
     }
-    let c = f.dt / f.rho + f.tau;
+    let c = f.beta * f.dt / f.rho + f.tau;
     let slot_start = sys.slot_start[e];
     for a in 0..n {
         let ia = ops.node(a);
@@ -570,7 +603,7 @@ fn assemble_polygon(
         let ra = ra as usize;
         sys.rhs[ra] += ops.node_w[a] * f.target[ia] - det_part[a]
             + ops.divergence_row(a, |i| f.u_t[i])
-            + f.gamma * (f.dt / f.rho) * ops.lap_row(a, |i| f.p_old[i])
+            + f.gamma * f.beta * (f.dt / f.rho) * ops.lap_row(a, |i| f.p_old[i])
             - f.tau * ops.divergence_row(a, |i| pi_old[i]);
         for b in 0..n {
             let kab = c * ops.lap[a * n + b];
