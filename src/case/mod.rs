@@ -392,6 +392,8 @@ mod tests {
             ("particles.spacing_m=0", "particles.spacing_m"),
             ("solver.gamma=0.5", "solver.gamma"),
             ("solver.increment_weight=0.5", "solver.increment_weight"),
+            // It weights the weak surface's Robin term, which the minimal case has not.
+            ("solver.increment_weight=2", "solver.increment_weight"),
         ] {
             let msg = parse(MINIMAL, &[o]).unwrap_err().to_string();
             assert!(msg.contains(field), "{o}: {msg}");

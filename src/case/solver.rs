@@ -52,15 +52,15 @@ pub struct SolverSettings {
     pub delta: f64,
     /// Pressure splitting: 0 (first order) or 1 (incremental, second order). Default 1.
     pub gamma: f64,
-    /// Weight β ≥ 1 of the incremental split's pressure equation,
-    /// (βΔt/ρ L + L_τ + βR)(pⁿ⁺¹ − pⁿ) = −Dũ − (L_τ + R) pⁿ − Qπⁿ with R the weak surface's
-    /// Robin term; β = 1 is the usual split. β does not enter the converged pressure; it sets
-    /// how fast the pressure reaches it. With β = 1 a pressure mode alternates from step to
-    /// step (±2–5 kPa at 2–8 cm depth in Ting & Kirby's flume, growing into kicks of 10–30 m/s)
+    /// Weight β ≥ 1 of the weak surface's Robin term R in the incremental split's operator:
+    /// (Δt/ρ L + L_τ + βR)(pⁿ⁺¹ − pⁿ) = −Dũ − (L_τ + R) pⁿ − Qπⁿ; β = 1 is the usual split.
+    /// β does not enter the converged pressure; it sets how fast the surface's pressure
+    /// reaches it. With β = 1 a pressure mode of the surface layer alternates from step to step
+    /// (±2–5 kPa at 2–8 cm depth in Ting & Kirby's flume, growing into kicks of 10–30 m/s)
     /// wherever Δt D M⁻¹ Dᵀ exceeds (2/3)(2Δt/ρ L + L_τ + R), as the split's three-level
-    /// recurrence gives (see `solver/pressure.rs`); β = 2 removes it, but lowered Ting & Kirby's
-    /// set-up by a third (docs/validation/ting_kirby.md), so it is not the default yet. Default
-    /// (`None`): 1; the 3D solver has only β = 1.
+    /// recurrence gives (see `solver/pressure.rs`); β = 2 removes it. Needs the weak surface
+    /// (`weak_surface_length_h`). Default (`None`): 1, not yet 2: the surf cases' set-up falls
+    /// by a quarter without the mode (docs/validation/ting_kirby.md). 2D only.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub increment_weight: Option<f64>,
     /// Viscous-term implicitness: 0 explicit, ½ Crank–Nicolson, 1 implicit. Default 0.
@@ -250,6 +250,14 @@ impl SolverSettings {
             return err(
                 "solver.increment_weight",
                 format!("β must lie in [1, 100] (1: the usual split), got {b}"),
+            );
+        }
+        if s.increment_weight() != 1.0 && s.weak_surface_length_h.is_none() {
+            return err(
+                "solver.increment_weight",
+                "weights the weak surface's Robin term: set solver.weak_surface_length_h too, \
+                 or leave it at 1"
+                    .into(),
             );
         }
         if !(0.0..=1.0).contains(&s.theta) {

@@ -30,21 +30,21 @@
 //! grows out of round-off (README, *Surface ripple*); the weak form damps it. The matrix is
 //! symmetric positive definite and assembled straight into CSR from the mesh.
 //!
-//! The incremental split (γ = 1) weights the operator of the increment by β
-//! (`solver.increment_weight`): with R the Robin term and S = β(Δt/ρ)L + (β − 1)R,
-//! (S + L_τ + R) pⁿ⁺¹ = −D ũ + S pⁿ − Q πⁿ, which converges to the same pressure for every β.
-//! The velocity ũ carries Δt M⁻¹Dᵀpⁿ, so with W = Δt D M⁻¹ Dᵀ, T = L_τ + R and the last step's
-//! divergence left in uⁿ, the pressure of a fixed mesh obeys the three-level recurrence
-//! (S + T) pⁿ⁺¹ = (2S + T − 2W) pⁿ + (W − S) pⁿ⁻¹ + forcing. A mode with the Rayleigh quotients
-//! w, s, t has a root μ = −1, a pressure that alternates from step to step, when
-//! 3w = 4s + 2t. With β = 1 that is w = (2/3)(2a + t): in Ting & Kirby's flume, at the nodes
-//! where the pressure alternated (±2–5 kPa at 2–8 cm depth, growing into 10–30 m/s kicks on
-//! broken crests), the increment's w/(2a + t) measured 0.69–0.71. The modes are those of the
-//! surface layer, where a nearly uniform pressure over a few surface nodes pushes them
-//! (w up to 23 a) while its gradient is small; R holds them, and the (β − 1)R of S doubles
-//! that hold at β = 2 without moving the converged pressure. The default is still β = 1:
-//! β = 2 removed the mode but lowered Ting & Kirby's set-up by a third and typed the
-//! plunging case spilling in the one run of each (docs/validation/ting_kirby.md).
+//! The incremental split (γ = 1) with the weak surface weights the surface's share of the
+//! increment's operator by β (`solver.increment_weight`): with R the Robin term and
+//! S = (Δt/ρ)L + (β − 1)R, (S + L_τ + R) pⁿ⁺¹ = −D ũ + S pⁿ − Q πⁿ, which converges to the
+//! same pressure for every β. The velocity ũ carries Δt M⁻¹Dᵀpⁿ, so with W = Δt D M⁻¹ Dᵀ,
+//! T = L_τ + R and the last step's divergence left in uⁿ, the pressure of a fixed mesh obeys
+//! the three-level recurrence (S + T) pⁿ⁺¹ = (2S + T − 2W) pⁿ + (W − S) pⁿ⁻¹ + forcing. A mode
+//! with the Rayleigh quotients w, s, t has a root μ = −1, a pressure that alternates from step
+//! to step, when 3w = 4s + 2t; with β = 1 that is w = (2/3)(2a + t). In Ting & Kirby's flume,
+//! at the nodes where the pressure alternated (±2–5 kPa at 2–8 cm depth, growing into
+//! 10–30 m/s kicks on broken crests), the increment's w/(2a + t) measured 0.69–0.71. The modes
+//! are those of the surface layer, where a nearly uniform pressure over a few surface nodes
+//! pushes them (w up to 23 a) while its gradient is small; R holds them, and the (β − 1)R of S
+//! moves the onset to 3w = 4a + 2t + (4β − 2)r. A weight on the Laplacian instead (βL in S)
+//! reaches the same modes only at β ≥ 3 and slows the pressure everywhere: the dam break's
+//! volume drift passed its bar (docs/validation/ting_kirby.md).
 //!
 //! The pattern and the Dirichlet set are known as soon as the α-shape is: `prepare_pressure`
 //! builds the pattern and, for the Cholesky solver, starts the symbolic analysis (the
@@ -322,7 +322,6 @@ impl Solver {
     pub(super) fn assemble_pressure(&mut self, particles: &Particles, dt: f64) {
         let rho = self.params.density_kg_m3;
         let gamma = self.params.settings.gamma;
-        let beta = self.increment_weight();
         let area_dt = if self.params.settings.area_correction {
             dt
         } else {
@@ -360,7 +359,6 @@ impl Solver {
                     dt,
                     rho,
                     gamma,
-                    beta,
                     tau,
                     area_correction: self.params.settings.area_correction,
                 };
@@ -371,7 +369,7 @@ impl Solver {
                 continue;
             }
             for cell in self.cells.cells(e) {
-                let c = (beta * dt / rho + tau) * cell.area;
+                let c = (dt / rho + tau) * cell.area;
                 let grad_u = cell.velocity_gradient(|i| u_t[i]);
                 // Moving the nodes by Δt u changes the area by Δt A ∇·u + Δt² A det ∇u; with
                 // the correction, the equation asks for the divergence that cancels both.
@@ -387,7 +385,7 @@ impl Solver {
                     };
                 let grad_p = cell.gradient(|i| p_old[i]);
                 let pi_mean = cell.mean_vector(|i| pi_old[i]);
-                let flux = gamma * beta * (dt / rho) * grad_p - tau * pi_mean;
+                let flux = gamma * (dt / rho) * grad_p - tau * pi_mean;
                 let k = cell.nodes.len();
                 for a in 0..k {
                     let ia = cell.node(a);
@@ -411,8 +409,8 @@ impl Solver {
         self.add_weak_surface(particles, dt);
     }
 
-    /// β of the incremental split; 1 for the first-order one (γ = 0), where S would
-    /// not cancel.
+    /// β of the incremental split; 1 for the first-order one (γ = 0), where (β − 1)R pⁿ
+    /// would not cancel.
     fn increment_weight(&self) -> f64 {
         let s = &self.params.settings;
         if s.gamma == 0.0 {
@@ -563,7 +561,6 @@ struct PolygonFields<'a> {
     dt: f64,
     rho: f64,
     gamma: f64,
-    beta: f64,
     tau: f64,
     area_correction: bool,
 }
@@ -592,7 +589,7 @@ fn assemble_polygon(
             }
         }
     }
-    let c = f.beta * f.dt / f.rho + f.tau;
+    let c = f.dt / f.rho + f.tau;
     let slot_start = sys.slot_start[e];
     for a in 0..n {
         let ia = ops.node(a);
@@ -603,7 +600,7 @@ fn assemble_polygon(
         let ra = ra as usize;
         sys.rhs[ra] += ops.node_w[a] * f.target[ia] - det_part[a]
             + ops.divergence_row(a, |i| f.u_t[i])
-            + f.gamma * f.beta * (f.dt / f.rho) * ops.lap_row(a, |i| f.p_old[i])
+            + f.gamma * (f.dt / f.rho) * ops.lap_row(a, |i| f.p_old[i])
             - f.tau * ops.divergence_row(a, |i| pi_old[i]);
         for b in 0..n {
             let kab = c * ops.lap[a * n + b];

@@ -237,7 +237,7 @@ mod tests {
 
     /// The split's pressure mode that alternates from step to step (`pressure.rs`: with β = 1
     /// the three-level recurrence has a root μ = −1 where 3w = 2(2a + t), which modes of the
-    /// surface layer cross). Each step, the node whose pressure changed most (of those with a
+    /// surface layer cross; β = 2 weights the Robin term of the teaching beach's weak surface). Each step, the node whose pressure changed most (of those with a
     /// pressure unknown, wall nodes included: a node pinned to p = 0 loses its old pressure);
     /// an event is a change of more than 2 kPa (three times the hydrostatic pressure at the
     /// depth where it happens, 0–7 cm) of the opposite sign to the last step's largest, within
