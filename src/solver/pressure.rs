@@ -1,7 +1,7 @@
 //! Stages `assemble` and `pressure_solve`: the stabilised pressure Poisson equation
 //! (thesis eq. 2.74 with the τ of method.md §1):
 //!
-//! (Δt/ρ L + L_τ) pⁿ⁺¹ = −D ũ + γ (Δt/ρ) L pⁿ − Q πⁿ (β = 1 below),
+//! (Δt/ρ L + L_τ) pⁿ⁺¹ = −D ũ + γ (Δt/ρ) L pⁿ − Q πⁿ (with β = 1, below),
 //!
 //! with, per element, L_ij = A b_i·b_j, L_τ,ij = τ_e A b_i·b_j, (D ũ)_i = (A/3) ∇·ũ and
 //! (Q π)_i = τ_e A b_i·π̄; with `volume_relaxation_s`, D ũ becomes D ũ − M s, s the

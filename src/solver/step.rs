@@ -237,12 +237,13 @@ mod tests {
 
     /// The split's pressure mode that alternates from step to step (`pressure.rs`: with β = 1
     /// the three-level recurrence has a root μ = −1 where 3w = 2(2a + t), which modes of the
-    /// surface layer cross; β = 2 weights the Robin term of the teaching beach's weak surface). Each step, the node whose pressure changed most (of those with a
-    /// pressure unknown, wall nodes included: a node pinned to p = 0 loses its old pressure);
-    /// an event is a change of more than 2 kPa (three times the hydrostatic pressure at the
-    /// depth where it happens, 0–7 cm) of the opposite sign to the last step's largest, within
-    /// 10 cm of it (the largest wanders along the surface while the mode alternates).
-    /// (events, largest change in Pa) over the teaching beach's first `end_s` seconds.
+    /// surface layer cross; β = 2 weights the Robin term of the teaching beach's weak surface).
+    /// Each step, the node whose pressure changed most (of those with a pressure unknown, wall
+    /// nodes included: a node pinned to p = 0 loses its old pressure); an event is a change
+    /// of more than 2 kPa (three times the hydrostatic pressure at the depth where it happens,
+    /// 0–7 cm) of the opposite sign to the last step's largest, within 10 cm of it (the largest
+    /// wanders along the surface while the mode alternates). (events, largest change in Pa)
+    /// over the teaching beach's first `end_s` seconds.
     fn alternation(overrides: &[&str], end_s: f64) -> (usize, f64) {
         let path =
             std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/teaching_beach.toml");
