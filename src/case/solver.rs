@@ -59,9 +59,9 @@ pub struct SolverSettings {
     /// (±2–5 kPa at 2–8 cm depth in Ting & Kirby's flume, growing into kicks of 10–30 m/s)
     /// wherever Δt D M⁻¹ Dᵀ exceeds (2/3)(2Δt/ρ L + L_τ + R), as the split's three-level
     /// recurrence gives (see `solver/pressure.rs`); β = 2 removes it. Needs the weak surface
-    /// (`weak_surface_length_h`). Default (`None`): 1, not yet 2: in one run of each surf case
-    /// the set-up fell by a quarter and the plunging case typed spilling
-    /// (docs/validation/ting_kirby.md). 2D only.
+    /// (`weak_surface_length_h`). Default (`None`): 1, not yet 2: Ting & Kirby's cases are
+    /// measured with it (more runs meet every bar, the set-up is a quarter lower), the teaching
+    /// beach and the lab not yet (docs/validation/ting_kirby.md). 2D only.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub increment_weight: Option<f64>,
     /// Viscous-term implicitness: 0 explicit, ½ Crank–Nicolson, 1 implicit. Default 0.

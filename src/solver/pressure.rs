@@ -43,7 +43,7 @@
 //! are those of the surface layer, where a nearly uniform pressure over a few surface nodes
 //! pushes them (w up to 23 a) while its gradient is small; R holds them, and the (β − 1)R of S
 //! moves the onset to 3w = 4a + 2t + (4β − 2)r. A weight on the Laplacian instead (βL in S)
-//! reaches the same modes only at β ≥ 3 and slows the pressure everywhere: the dam break's
+//! leaves some of them even at β = 3 and slows the pressure everywhere: the dam break's
 //! volume drift passed its bar (docs/validation/ting_kirby.md).
 //!
 //! The pattern and the Dirichlet set are known as soon as the α-shape is: `prepare_pressure`
