@@ -59,11 +59,10 @@ pub struct SolverSettings {
     /// (±2–5 kPa at 2–8 cm depth in Ting & Kirby's flume, growing into kicks of 10–30 m/s)
     /// wherever Δt D M⁻¹ Dᵀ exceeds (2/3)(2Δt/ρ L + L_τ + R), as the split's three-level
     /// recurrence gives (see `solver/pressure.rs`); β = 2 removes it. Needs the weak surface
-    /// (`weak_surface_length_h`). Default (`None`): 1, not yet 2: Ting & Kirby's cases are
-    /// measured with it (more runs meet every bar, the set-up is a quarter lower), the teaching
-    /// beach and the lab not yet (docs/validation/ting_kirby.md). 2D only.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub increment_weight: Option<f64>,
+    /// (`weak_surface_length_h`). Default 1, not yet 2: Ting & Kirby's cases are measured with
+    /// it (more runs meet every bar, the set-up is a quarter lower), the other weak-surface
+    /// cases not yet (docs/validation/ting_kirby.md). 2D only.
+    pub increment_weight: f64,
     /// Viscous-term implicitness: 0 explicit, ½ Crank–Nicolson, 1 implicit. Default 0.
     pub theta: f64,
     /// Smagorinsky constant C_s (thesis eq. 1.20 uses 0.12); 0 turns the eddy viscosity off.
@@ -153,7 +152,7 @@ impl Default for SolverSettings {
             alpha_boundary: 1.0,
             delta: 0.0,
             gamma: 1.0,
-            increment_weight: None,
+            increment_weight: 1.0,
             theta: 0.0,
             smagorinsky_cs: 0.12,
             tau: None,
@@ -190,11 +189,6 @@ impl SolverSettings {
         } else {
             TauFormula::Inertial
         })
-    }
-
-    /// β of the incremental split (`solver.increment_weight`): the case's, else 1.
-    pub fn increment_weight(&self) -> f64 {
-        self.increment_weight.unwrap_or(1.0)
     }
 
     /// Reads the 0 a case file writes for an optional setting as `None`.
@@ -245,15 +239,14 @@ impl SolverSettings {
         if s.gamma != 0.0 && s.gamma != 1.0 {
             return err("solver.gamma", format!("must be 0 or 1, got {}", s.gamma));
         }
-        if let Some(b) = s.increment_weight
-            && !(b.is_finite() && (1.0..=100.0).contains(&b))
-        {
+        let b = s.increment_weight;
+        if !(b.is_finite() && (1.0..=100.0).contains(&b)) {
             return err(
                 "solver.increment_weight",
                 format!("β must lie in [1, 100] (1: the usual split), got {b}"),
             );
         }
-        if s.increment_weight() != 1.0 && s.weak_surface_length_h.is_none() {
+        if b != 1.0 && s.weak_surface_length_h.is_none() {
             return err(
                 "solver.increment_weight",
                 "weights the weak surface's Robin term: set solver.weak_surface_length_h too, \

@@ -409,17 +409,6 @@ impl Solver {
         self.add_weak_surface(particles, dt);
     }
 
-    /// β of the incremental split; 1 for the first-order one (γ = 0), where (β − 1)R pⁿ
-    /// would not cancel.
-    fn increment_weight(&self) -> f64 {
-        let s = &self.params.settings;
-        if s.gamma == 0.0 {
-            1.0
-        } else {
-            s.increment_weight()
-        }
-    }
-
     /// The pressure of the Dirichlet nodes: 0, but a wall node pinned as a contact point gets
     /// the hydrostatic ρ g (ȳ − y) of the mean height ȳ of the fluid nodes it shares a
     /// free-surface edge with (negative when it stands above the water line).
@@ -479,7 +468,10 @@ impl Solver {
         };
         let spacing = self.params.spacing;
         let rho = self.params.density_kg_m3;
-        let lag = self.increment_weight() - 1.0;
+        // (β − 1)R on both sides of the incremental split's equation; none in the first-order
+        // one (γ = 0), where (β − 1)R pⁿ would not cancel.
+        let settings = &self.params.settings;
+        let lag = settings.gamma * (settings.increment_weight - 1.0);
         let mesh = &self.mesh;
         let sys = &mut self.pressure;
         let p_old = &self.p_old;

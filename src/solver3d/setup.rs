@@ -138,7 +138,7 @@ pub fn from_case(case: &Case) -> Result<Flow3, Setup3Error> {
     let two_d_only = [
         ("solver.delta", s.delta > 0.0),
         ("solver.geometry_theta", s.geometry_theta.is_some()),
-        ("solver.increment_weight", s.increment_weight() != 1.0),
+        ("solver.increment_weight", s.increment_weight != 1.0),
         // The 3D predictor's viscous term is explicit.
         ("solver.theta", s.theta != 0.0),
         ("solver.midpoint_move", s.midpoint_move),
