@@ -58,10 +58,11 @@ pub struct SolverSettings {
     /// reaches it. With β = 1 a pressure mode of the surface layer alternates from step to step
     /// (±2–5 kPa at 2–8 cm depth in Ting & Kirby's flume, growing into kicks of 10–30 m/s)
     /// wherever Δt D M⁻¹ Dᵀ exceeds (2/3)(2Δt/ρ L + L_τ + R), as the split's three-level
-    /// recurrence gives (see `solver/pressure.rs`); β = 2 removes it. Needs the weak surface
-    /// (`weak_surface_length_h`). Default 1, not yet 2: Ting & Kirby's cases are measured with
-    /// it (more runs meet every bar, the set-up is a quarter lower), the other weak-surface
-    /// cases not yet (docs/validation/ting_kirby.md). 2D only.
+    /// recurrence gives (see `solver/pressure.rs`); β = 2 removes it (1.1 already nearly).
+    /// Needs the weak surface (`weak_surface_length_h`). Default 1: without the mode the
+    /// particles' move loses more water where no volume ledger gives it back (the 1:8 beach
+    /// 2.9 → 4.2–4.3 % for every β from 1.1 to 2, the flap 0.500 → 0.563 %; docs/method.md,
+    /// *The weighted surface*); Ting & Kirby's case files, which have the ledger, set 2. 2D only.
     pub increment_weight: f64,
     /// Viscous-term implicitness: 0 explicit, ½ Crank–Nicolson, 1 implicit. Default 0.
     pub theta: f64,
