@@ -311,6 +311,48 @@ fn morton_key(x: u16, y: u16) -> u32 {
     spread(x) | (spread(y) << 1)
 }
 
+/// Connected components of `cells` (triangles, tetrahedra: node indices below `n`) through
+/// shared nodes: a label per node (`u32::MAX` where `in_mesh` is false; such a node must be in
+/// no cell) and the number of components, numbered in the order of their lowest node.
+pub fn components_of<const K: usize>(
+    n: usize,
+    cells: impl IntoIterator<Item = [u32; K]>,
+    in_mesh: impl Fn(usize) -> bool,
+) -> (Vec<u32>, usize) {
+    let mut parent: Vec<u32> = (0..n as u32).collect();
+    fn find(parent: &mut [u32], mut i: u32) -> u32 {
+        while parent[i as usize] != i {
+            parent[i as usize] = parent[parent[i as usize] as usize];
+            i = parent[i as usize];
+        }
+        i
+    }
+    for t in cells {
+        let r0 = find(&mut parent, t[0]);
+        for &v in &t[1..] {
+            let r = find(&mut parent, v);
+            if r != r0 {
+                parent[r as usize] = r0;
+            }
+        }
+    }
+    let mut label = vec![u32::MAX; n];
+    let mut root_label = vec![u32::MAX; n];
+    let mut count = 0;
+    for i in 0..n {
+        if !in_mesh(i) {
+            continue;
+        }
+        let r = find(&mut parent, i as u32) as usize;
+        if root_label[r] == u32::MAX {
+            root_label[r] = count;
+            count += 1;
+        }
+        label[i] = root_label[r];
+    }
+    (label, count as usize)
+}
+
 /// The parameters of the α-shape and the EDT merge.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ShapeParams {
@@ -623,38 +665,7 @@ impl Mesh {
     /// Connected components of the kept mesh through shared nodes: a label per node
     /// (`u32::MAX` for nodes in no triangle) and the number of components.
     pub fn components(&self, n: usize) -> (Vec<u32>, usize) {
-        let mut parent: Vec<u32> = (0..n as u32).collect();
-        fn find(parent: &mut [u32], mut i: u32) -> u32 {
-            while parent[i as usize] != i {
-                parent[i as usize] = parent[parent[i as usize] as usize];
-                i = parent[i as usize];
-            }
-            i
-        }
-        for t in &self.triangles {
-            let r0 = find(&mut parent, t[0]);
-            for &v in &t[1..] {
-                let r = find(&mut parent, v);
-                if r != r0 {
-                    parent[r as usize] = r0;
-                }
-            }
-        }
-        let mut label = vec![u32::MAX; n];
-        let mut root_label = vec![u32::MAX; n];
-        let mut count = 0;
-        for i in 0..n {
-            if !self.in_mesh[i] {
-                continue;
-            }
-            let r = find(&mut parent, i as u32) as usize;
-            if root_label[r] == u32::MAX {
-                root_label[r] = count;
-                count += 1;
-            }
-            label[i] = root_label[r];
-        }
-        (label, count as usize)
+        components_of(n, self.triangles.iter().copied(), |i| self.in_mesh[i])
     }
 
     /// The component labels of [`Mesh::components`] and the label of the main body of water,

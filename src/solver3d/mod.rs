@@ -10,6 +10,7 @@ mod filter;
 mod ic0;
 mod integrals;
 pub mod nodes;
+mod pieces;
 pub mod piston;
 pub mod pressure;
 pub mod relax;

@@ -256,7 +256,7 @@ pub fn pressure(
     let has_row = |i: usize| {
         shape.in_mesh[i] && support[i] > 0.0 && (weak.is_some() || !shape.free_surface[i])
     };
-    let sealed_top = sealed_pieces(
+    let sealed_top = super::pieces::sealed_tops(
         points,
         mesh,
         shape,
@@ -529,67 +529,6 @@ impl Assembly {
             faer::sparse::SymbolicSparseColMat::new_checked(n, n, self.col_ptr, None, self.row_idx);
         SparseColMat::new(symbolic, self.val)
     }
-}
-
-/// Per node: whether it is the highest node of a connected piece of the kept, non-flat
-/// tetrahedra that has no node with an imposed pressure (water sealed from the air by walls,
-/// or a pocket whose every node has a continuity row), which would leave that piece's pressure
-/// undetermined up to a constant. Such a node is held at its imposed pressure (0), as the 2D
-/// step pins its sealed pieces (`solver::pieces`). With the weak surface a free-surface node
-/// anchors its piece (its Robin term).
-fn sealed_pieces(
-    points: &[[f64; 3]],
-    mesh: &Tetrahedralisation,
-    shape: &AlphaShape,
-    elements: &[P1Tet],
-    support: &[f64],
-    has_row: &dyn Fn(usize) -> bool,
-    weak: bool,
-) -> Vec<bool> {
-    let n = support.len();
-    let mut parent: Vec<u32> = (0..n as u32).collect();
-    fn root(parent: &mut [u32], mut i: u32) -> u32 {
-        while parent[i as usize] != i {
-            let up = parent[parent[i as usize] as usize];
-            parent[i as usize] = up;
-            i = up;
-        }
-        i
-    }
-    for (&t, e) in shape.kept.iter().zip(elements) {
-        if e.volume <= 0.0 {
-            continue;
-        }
-        let v = mesh.tets[t as usize];
-        let a = root(&mut parent, v[0]);
-        for &j in &v[1..] {
-            let b = root(&mut parent, j);
-            if a != b {
-                parent[b as usize] = a;
-            }
-        }
-    }
-    let mut anchored = vec![false; n];
-    let mut top: Vec<u32> = vec![u32::MAX; n];
-    for i in 0..n {
-        if support[i] <= 0.0 {
-            continue;
-        }
-        let r = root(&mut parent, i as u32) as usize;
-        if !has_row(i) || (weak && shape.free_surface[i]) {
-            anchored[r] = true;
-        }
-        if top[r] == u32::MAX || points[i][1] > points[top[r] as usize][1] {
-            top[r] = i as u32;
-        }
-    }
-    let mut pinned = vec![false; n];
-    for r in 0..n {
-        if top[r] != u32::MAX && !anchored[r] {
-            pinned[top[r] as usize] = true;
-        }
-    }
-    pinned
 }
 
 /// Solves K x = b by a sparse Cholesky factor of the symmetric positive definite `k` (its
